@@ -1,0 +1,39 @@
+#pragma once
+// SE(3) helpers. The pipeline works with Eigen::Isometry3d poses of the *optical* frame
+// (x right, y down, z forward), as TUM trajectories do; MRPT's 3D range sensor frame is
+// x forward, y left, z up. These functions convert between the two worlds.
+
+#include <Eigen/Geometry>
+
+namespace mrpt::poses {
+class CPose3D;
+}
+
+namespace slamdunk {
+
+using Pose = Eigen::Isometry3d;
+
+/// Pose from translation and a quaternion (x, y, z, w order as in TUM files); normalises the
+/// quaternion and throws std::invalid_argument on NaN/inf values or a zero-norm quaternion.
+Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy,
+                                   double qz, double qw);
+
+mrpt::poses::CPose3D toCPose3D(const Pose& p);
+Pose fromCPose3D(const mrpt::poses::CPose3D& p);
+
+/// Pose of the optical frame expressed in MRPT's sensor frame: CPose3D(0,0,0,-90°,0,-90°).
+const Pose& opticalInSensor();
+/// T_w_sensor for a given T_w_optical (and back).
+Pose opticalToSensorPose(const Pose& T_w_optical);
+Pose sensorToOpticalPose(const Pose& T_w_sensor);
+
+/// Rotation angle of a pose in radians, in [0, pi].
+double rotationAngle(const Pose& p);
+/// Rotation angle of the rotation between two poses' orientations (radians).
+double rotationDistance(const Pose& a, const Pose& b);
+double translationDistance(const Pose& a, const Pose& b);
+
+/// True when all entries are finite and the rotation part is orthonormal to 1e-6.
+bool isValidPose(const Pose& p);
+
+}  // namespace slamdunk

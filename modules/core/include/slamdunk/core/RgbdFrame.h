@@ -1,0 +1,47 @@
+#pragma once
+// One RGB-D frame as the SLAM pipeline sees it: grey image, metric depth and the colour intrinsics.
+
+#include <slamdunk/core/CameraIntrinsics.h>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+#include <optional>
+
+namespace mrpt::obs {
+class CObservation3DRangeScan;
+}
+
+namespace slamdunk {
+
+class RgbdFrame {
+ public:
+  /// Builds a frame from an MRPT observation (loads externally stored images if needed).
+  /// Throws std::runtime_error naming the problem: no intensity image, no depth, size mismatch.
+  static RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs);
+
+  RgbdFrame() = default;
+  RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres, CameraIntrinsics intrinsics);
+
+  double timestamp() const { return timestamp_; }
+  /// 8-bit single channel, colour camera resolution.
+  const cv::Mat& grey() const { return grey_; }
+  /// CV_32F metres, registered to the colour image; 0 marks an invalid pixel.
+  const cv::Mat& depth() const { return depth_; }
+  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
+
+  /// Depth in metres at the nearest pixel, 0 when outside the image or invalid.
+  float depthAt(double u, double v) const;
+  /// 3D point in the optical frame for a raw (distorted) pixel: undistorts the pixel, takes the
+  /// depth at the raw pixel. Empty when the depth is invalid.
+  std::optional<Eigen::Vector3d> backProject(double u, double v) const;
+  /// Fraction of pixels with valid depth.
+  double validDepthFraction() const;
+
+ private:
+  double timestamp_ = 0;
+  cv::Mat grey_;
+  cv::Mat depth_;
+  CameraIntrinsics intrinsics_;
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,63 @@
+#pragma once
+// A TUM RGB-D benchmark folder (rgb.txt, depth.txt, optional groundtruth.txt) turned into
+// CObservation3DRangeScan frames, colour and depth associated the TUM way.
+
+#include <slamdunk/core/CameraIntrinsics.h>
+#include <slamdunk/core/TumTrajectory.h>
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+
+#include <string>
+#include <vector>
+
+namespace mrpt::config {
+class CConfigFileBase;
+}
+
+namespace slamdunk {
+
+/// Colour camera calibration plus the depth scale of the PNGs (raw units per metre).
+struct RgbdCameraCalibration {
+  CameraIntrinsics intrinsics;
+  double depthFactor = 5000.0;
+
+  /// Reads section [CAMERA]: resolution = [w h], fx, fy, cx, cy, dist = [k1 k2 p1 p2 k3],
+  /// depth_factor. Unknown keys and malformed values are errors naming the key.
+  static RgbdCameraCalibration loadFromIni(const std::string& path);
+  static RgbdCameraCalibration loadFromConfig(const mrpt::config::CConfigFileBase& cfg,
+                                              const std::string& section = "CAMERA");
+};
+
+struct TumFrameEntry {
+  double rgbStamp = 0, depthStamp = 0;
+  std::string rgbFile, depthFile;  ///< absolute paths
+};
+
+class TumSequence {
+ public:
+  /// Parses the lists and associates them (|dt| < maxDifference). Throws std::runtime_error
+  /// naming the file (and line) when a list is missing or malformed.
+  explicit TumSequence(const std::string& folder, double maxDifference = 0.02);
+
+  const std::string& folder() const { return folder_; }
+  const std::vector<TumFrameEntry>& frames() const { return frames_; }
+  size_t rgbCount() const { return rgbCount_; }
+  size_t depthCount() const { return depthCount_; }
+  bool hasGroundTruth() const { return !groundTruth_.empty(); }
+  /// Empty when the folder has no groundtruth.txt.
+  const Trajectory& groundTruth() const { return groundTruth_; }
+
+  /// Loads frame i as an observation (timestamp = colour stamp, raw 16-bit depth copied with
+  /// rangeUnits = 1/depthFactor). Throws naming the image on a missing or unreadable file, a
+  /// depth PNG that is not 16-bit single channel, or a size that differs from the calibration.
+  mrpt::obs::CObservation3DRangeScan::Ptr loadObservation(
+      size_t i, const RgbdCameraCalibration& calib) const;
+
+ private:
+  std::string folder_;
+  std::vector<TumFrameEntry> frames_;
+  size_t rgbCount_ = 0, depthCount_ = 0;
+  Trajectory groundTruth_;
+};
+
+}  // namespace slamdunk

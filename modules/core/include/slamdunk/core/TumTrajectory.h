@@ -1,0 +1,26 @@
+#pragma once
+// TUM RGB-D benchmark trajectory files: "timestamp tx ty tz qx qy qz qw" per line, '#' comments.
+
+#include <slamdunk/core/Pose.h>
+
+#include <string>
+#include <vector>
+
+namespace slamdunk {
+
+struct StampedPose {
+  double timestamp = 0;
+  Pose pose = Pose::Identity();
+};
+using Trajectory = std::vector<StampedPose>;
+
+/// Reads a TUM trajectory. Throws std::runtime_error "FILE:LINE: reason" on a missing file,
+/// a line with the wrong number of fields, a non-numeric or non-finite value, or a bad quaternion.
+Trajectory readTumTrajectory(const std::string& path);
+
+/// Writes atomically (temporary file + rename): an existing file is replaced only on success.
+/// Timestamps with 6 decimals, positions and quaternions with 9 significant digits.
+void writeTumTrajectory(const std::string& path, const Trajectory& traj,
+                        const std::string& headerComment = {});
+
+}  // namespace slamdunk

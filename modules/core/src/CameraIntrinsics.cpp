@@ -1,0 +1,52 @@
+#include <slamdunk/core/CameraIntrinsics.h>
+
+#include <mrpt/img/TCamera.h>
+
+namespace slamdunk {
+
+bool CameraIntrinsics::hasDistortion() const {
+  for (double d : dist)
+    if (d != 0.0) return true;
+  return false;
+}
+
+Eigen::Vector2d CameraIntrinsics::undistortPixel(double u, double v) const {
+  if (!hasDistortion()) return {u, v};
+  const double k1 = dist[0], k2 = dist[1], p1 = dist[2], p2 = dist[3], k3 = dist[4];
+  const double xd = (u - cx) / fx, yd = (v - cy) / fy;
+  // Fixed-point inversion of the forward model, as cv::undistortPoints does; a handful of
+  // iterations converge to far below a hundredth of a pixel for Kinect-like lenses.
+  double x = xd, y = yd;
+  for (int it = 0; it < 10; ++it) {
+    const double r2 = x * x + y * y;
+    const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    const double dx = 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+    const double dy = p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+    x = (xd - dx) / radial;
+    y = (yd - dy) / radial;
+  }
+  return {x * fx + cx, y * fy + cy};
+}
+
+CameraIntrinsics CameraIntrinsics::fromTCamera(const mrpt::img::TCamera& cam) {
+  CameraIntrinsics c;
+  c.width = static_cast<int>(cam.ncols);
+  c.height = static_cast<int>(cam.nrows);
+  c.fx = cam.fx();
+  c.fy = cam.fy();
+  c.cx = cam.cx();
+  c.cy = cam.cy();
+  for (size_t i = 0; i < 5; ++i) c.dist[i] = cam.dist[i];
+  return c;
+}
+
+mrpt::img::TCamera CameraIntrinsics::toTCamera() const {
+  mrpt::img::TCamera cam;
+  cam.ncols = static_cast<uint32_t>(width);
+  cam.nrows = static_cast<uint32_t>(height);
+  cam.setIntrinsicParamsFromValues(fx, fy, cx, cy);
+  for (size_t i = 0; i < 5; ++i) cam.dist[i] = dist[i];
+  return cam;
+}
+
+}  // namespace slamdunk

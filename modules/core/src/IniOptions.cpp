@@ -1,0 +1,125 @@
+#include <slamdunk/core/IniOptions.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace slamdunk {
+
+namespace {
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return {};
+  const size_t b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+}  // namespace
+
+IniSectionReader::IniSectionReader(const mrpt::config::CConfigFileBase& cfg, std::string section)
+    : cfg_(cfg), section_(std::move(section)) {}
+
+bool IniSectionReader::sectionExists() const { return cfg_.sectionExists(section_); }
+
+std::string IniSectionReader::rawValue(const std::string& key, bool& found) {
+  known_.insert(key);
+  found = false;
+  if (!cfg_.sectionExists(section_)) return {};
+  std::vector<std::string> keys;
+  cfg_.getAllKeys(section_, keys);
+  found = std::find(keys.begin(), keys.end(), key) != keys.end();
+  if (!found) return {};
+  // MRPT strips trailing "//" comments; strip '#' and ';' ones too.
+  std::string v = cfg_.read_string(section_, key, "", false);
+  const size_t c = v.find_first_of("#;");
+  if (c != std::string::npos) v = v.substr(0, c);
+  return trim(v);
+}
+
+double IniSectionReader::readDouble(const std::string& key, double defaultValue) {
+  bool found;
+  const std::string v = rawValue(key, found);
+  if (!found) return defaultValue;
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !std::isfinite(x))
+    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v +
+                                "' is not a finite number");
+  return x;
+}
+
+int IniSectionReader::readInt(const std::string& key, int defaultValue) {
+  bool found;
+  const std::string v = rawValue(key, found);
+  if (!found) return defaultValue;
+  char* end = nullptr;
+  const long x = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || x < INT32_MIN || x > INT32_MAX)
+    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v + "' is not an integer");
+  return static_cast<int>(x);
+}
+
+bool IniSectionReader::readBool(const std::string& key, bool defaultValue) {
+  bool found;
+  const std::string v = lower(rawValue(key, found));
+  if (!found) return defaultValue;
+  if (v == "1" || v == "true" || v == "yes" || v == "on") return true;
+  if (v == "0" || v == "false" || v == "no" || v == "off") return false;
+  throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v +
+                              "' is not a boolean (true/false)");
+}
+
+std::string IniSectionReader::readString(const std::string& key,
+                                         const std::string& defaultValue) {
+  bool found;
+  const std::string v = rawValue(key, found);
+  return found ? v : defaultValue;
+}
+
+std::vector<double> IniSectionReader::readDoubles(const std::string& key,
+                                                  const std::vector<double>& defaultValue,
+                                                  int expectedCount) {
+  bool found;
+  std::string v = rawValue(key, found);
+  if (!found) return defaultValue;
+  std::replace(v.begin(), v.end(), ',', ' ');
+  for (char& c : v)
+    if (c == '[' || c == ']') c = ' ';
+  std::istringstream in(v);
+  std::vector<double> out;
+  std::string tok;
+  while (in >> tok) {
+    char* end = nullptr;
+    const double x = std::strtod(tok.c_str(), &end);
+    if (*end != '\0' || !std::isfinite(x))
+      throw std::invalid_argument("[" + section_ + "] " + key + ": '" + tok +
+                                  "' is not a finite number");
+    out.push_back(x);
+  }
+  if (expectedCount >= 0 && static_cast<int>(out.size()) != expectedCount)
+    throw std::invalid_argument("[" + section_ + "] " + key + " needs " +
+                                std::to_string(expectedCount) + " numbers, found " +
+                                std::to_string(out.size()));
+  return out;
+}
+
+void IniSectionReader::rejectUnknownKeys() const {
+  if (!cfg_.sectionExists(section_)) return;
+  std::vector<std::string> keys;
+  cfg_.getAllKeys(section_, keys);
+  std::string unknown;
+  for (const auto& k : keys)
+    if (!known_.count(k)) unknown += (unknown.empty() ? "" : ", ") + k;
+  if (unknown.empty()) return;
+  std::string allowed;
+  for (const auto& k : known_) allowed += (allowed.empty() ? "" : " ") + k;
+  throw std::invalid_argument("unknown key(s) in section [" + section_ + "]: " + unknown +
+                              " (known keys: " + allowed + ")");
+}
+
+}  // namespace slamdunk

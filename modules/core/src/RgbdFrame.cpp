@@ -1,0 +1,93 @@
+#include <slamdunk/core/RgbdFrame.h>
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/system/datetime.h>
+
+#include <opencv2/imgproc.hpp>
+#include <cmath>
+#include <stdexcept>
+
+namespace slamdunk {
+
+RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
+                     CameraIntrinsics intrinsics)
+    : timestamp_(timestamp),
+      grey_(std::move(grey)),
+      depth_(std::move(depthMetres)),
+      intrinsics_(intrinsics) {
+  if (grey_.type() != CV_8UC1) throw std::invalid_argument("RgbdFrame: grey image must be CV_8UC1");
+  if (depth_.type() != CV_32FC1)
+    throw std::invalid_argument("RgbdFrame: depth image must be CV_32FC1 (metres)");
+  if (grey_.size() != depth_.size())
+    throw std::invalid_argument("RgbdFrame: colour image is " + std::to_string(grey_.cols) + "x" +
+                                std::to_string(grey_.rows) + " but depth is " +
+                                std::to_string(depth_.cols) + "x" + std::to_string(depth_.rows));
+}
+
+RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
+  const std::string what = "observation '" + obs.sensorLabel + "' at t=" +
+                           std::to_string(mrpt::Clock::toDouble(obs.timestamp));
+  obs.load();  // externally stored images
+  if (!obs.hasIntensityImage || obs.intensityImage.isEmpty())
+    throw std::runtime_error(what + " has no colour (intensity) image");
+  if (!obs.hasRangeImage || obs.rangeImage.rows() == 0)
+    throw std::runtime_error(what + " has no depth (range) image");
+  if (!obs.range_is_depth)
+    throw std::runtime_error(what + " stores ranges along rays, not depth: not supported");
+  if (!(obs.rangeUnits > 0) || !std::isfinite(obs.rangeUnits))
+    throw std::runtime_error(what + " has invalid rangeUnits");
+
+  const cv::Mat& colour = obs.intensityImage.asCvMatRef();
+  cv::Mat grey;
+  if (colour.channels() == 3)
+    cv::cvtColor(colour, grey, cv::COLOR_BGR2GRAY);
+  else if (colour.channels() == 4)
+    cv::cvtColor(colour, grey, cv::COLOR_BGRA2GRAY);
+  else
+    grey = colour.clone();
+  if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
+
+  const auto& range = obs.rangeImage;
+  if (range.cols() != grey.cols || range.rows() != grey.rows)
+    throw std::runtime_error(what + ": depth is " + std::to_string(range.cols()) + "x" +
+                             std::to_string(range.rows()) + " but colour is " +
+                             std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
+                             " (depth must be registered to colour)");
+  cv::Mat depth(grey.rows, grey.cols, CV_32F);
+  const float units = obs.rangeUnits;
+  for (int r = 0; r < depth.rows; ++r) {
+    float* row = depth.ptr<float>(r);
+    for (int c = 0; c < depth.cols; ++c) row[c] = static_cast<float>(range(r, c)) * units;
+  }
+
+  CameraIntrinsics K = CameraIntrinsics::fromTCamera(obs.cameraParamsIntensity);
+  if (K.width != grey.cols || K.height != grey.rows) {
+    // Some drivers leave the resolution unset; the image itself is authoritative.
+    K.width = grey.cols;
+    K.height = grey.rows;
+  }
+  if (!(K.fx > 0 && K.fy > 0))
+    throw std::runtime_error(what + " has invalid colour camera intrinsics (fx, fy must be > 0)");
+  return RgbdFrame(mrpt::Clock::toDouble(obs.timestamp), std::move(grey), std::move(depth), K);
+}
+
+float RgbdFrame::depthAt(double u, double v) const {
+  const int c = static_cast<int>(std::lround(u)), r = static_cast<int>(std::lround(v));
+  if (c < 0 || r < 0 || c >= depth_.cols || r >= depth_.rows) return 0.f;
+  const float z = depth_.at<float>(r, c);
+  return std::isfinite(z) && z > 0 ? z : 0.f;
+}
+
+std::optional<Eigen::Vector3d> RgbdFrame::backProject(double u, double v) const {
+  const float z = depthAt(u, v);
+  if (z <= 0) return std::nullopt;
+  const Eigen::Vector2d und = intrinsics_.undistortPixel(u, v);
+  return intrinsics_.backProject(und.x(), und.y(), z);
+}
+
+double RgbdFrame::validDepthFraction() const {
+  if (depth_.empty()) return 0;
+  return static_cast<double>(cv::countNonZero(depth_ > 0)) / depth_.total();
+}
+
+}  // namespace slamdunk

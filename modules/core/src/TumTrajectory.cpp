@@ -1,0 +1,89 @@
+#include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/TumTrajectory.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace slamdunk {
+
+namespace {
+[[noreturn]] void fail(const std::string& path, size_t line, const std::string& why) {
+  throw std::runtime_error(path + ":" + std::to_string(line) + ": " + why);
+}
+}  // namespace
+
+Trajectory readTumTrajectory(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open trajectory file '" + path + "'");
+  Trajectory traj;
+  std::string text;
+  size_t lineNo = 0;
+  while (std::getline(in, text)) {
+    ++lineNo;
+    const size_t first = text.find_first_not_of(" \t\r");
+    if (first == std::string::npos || text[first] == '#') continue;
+    // Commas are accepted as separators too (some tools write them).
+    for (char& c : text)
+      if (c == ',') c = ' ';
+    std::istringstream fields(text);
+    std::vector<double> v;
+    std::string tok;
+    while (fields >> tok) {
+      char* end = nullptr;
+      const double x = std::strtod(tok.c_str(), &end);
+      if (end == tok.c_str() || *end != '\0') fail(path, lineNo, "'" + tok + "' is not a number");
+      if (!std::isfinite(x)) fail(path, lineNo, "non-finite value '" + tok + "'");
+      v.push_back(x);
+    }
+    if (v.size() != 8)
+      fail(path, lineNo,
+           "expected 8 fields 'timestamp tx ty tz qx qy qz qw', found " + std::to_string(v.size()));
+    StampedPose sp;
+    sp.timestamp = v[0];
+    try {
+      sp.pose = poseFromTranslationQuaternion(v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
+    } catch (const std::exception& e) {
+      fail(path, lineNo, e.what());
+    }
+    traj.push_back(sp);
+  }
+  if (in.bad()) throw std::runtime_error("read error on trajectory file '" + path + "'");
+  return traj;
+}
+
+void writeTumTrajectory(const std::string& path, const Trajectory& traj,
+                        const std::string& headerComment) {
+  AtomicOutput out(path);
+  {
+    std::ofstream f(out.tempPath());
+    if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
+    if (!headerComment.empty()) {
+      std::istringstream lines(headerComment);
+      std::string l;
+      while (std::getline(lines, l)) f << "# " << l << "\n";
+    }
+    f << "# timestamp tx ty tz qx qy qz qw\n";
+    char buf[256];
+    for (const StampedPose& sp : traj) {
+      if (!isValidPose(sp.pose))
+        throw std::runtime_error("refusing to write an invalid (NaN or non-rigid) pose at t=" +
+                                 std::to_string(sp.timestamp) + " to '" + path + "'");
+      Eigen::Quaterniond q(sp.pose.linear());
+      q.normalize();
+      if (q.w() < 0) q.coeffs() *= -1;  // one canonical sign: files diff cleanly between runs
+      const Eigen::Vector3d t = sp.pose.translation();
+      std::snprintf(buf, sizeof(buf), "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", sp.timestamp,
+                    t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+      f << buf;
+    }
+    f.flush();
+    if (!f) throw std::runtime_error("write error on trajectory file '" + path + "'");
+  }
+  out.commit();
+}
+
+}  // namespace slamdunk

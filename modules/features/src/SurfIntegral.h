@@ -1,0 +1,64 @@
+#pragma once
+// Integral image and Haar-wavelet helpers shared by the SURF detector and descriptor (private).
+
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace slamdunk::surf {
+
+/// Summed-area table of an 8-bit image: at(y, x) = sum of pixels [0, x) x [0, y).
+/// Sums are kept modulo 2^32 (uint32_t): any box sum of an 8-bit image with fewer than 2^24
+/// pixels is exact after the wrapping subtractions, whatever the image size.
+class IntegralImage {
+ public:
+  explicit IntegralImage(const cv::Mat& gray8);
+
+  int rows() const { return rows_; }  ///< image rows (the table has one more)
+  int cols() const { return cols_; }  ///< image columns (the table has one more)
+  std::ptrdiff_t stride() const { return stride_; }
+  const uint32_t* row(int y) const { return data_ + y * stride_; }
+
+  /// Sum of pixels in [x0, x1) x [y0, y1); the box must lie inside the image.
+  int32_t box(int x0, int y0, int x1, int y1) const {
+    const uint32_t* r0 = row(y0);
+    const uint32_t* r1 = row(y1);
+    return static_cast<int32_t>(r1[x1] - r1[x0] - r0[x1] + r0[x0]);
+  }
+
+  /// Haar wavelet responses of side 2h whose centre is the pixel corner (cx, cy):
+  /// x = right half - left half, y = bottom half - top half. The centre is clamped so the
+  /// wavelet stays inside the image (edge replication in effect, no fake border edges);
+  /// both are 0 if the image is smaller than the wavelet.
+  void haar(int cx, int cy, int h, float& dx, float& dy) const {
+    if (2 * h > cols_ || 2 * h > rows_) {
+      dx = dy = 0.f;
+      return;
+    }
+    cx = std::clamp(cx, h, cols_ - h);
+    cy = std::clamp(cy, h, rows_ - h);
+    const uint32_t* top = row(cy - h);
+    const uint32_t* mid = row(cy);
+    const uint32_t* bot = row(cy + h);
+    const uint32_t left = bot[cx - h] - top[cx - h];
+    const uint32_t centreCol = bot[cx] - top[cx];
+    const uint32_t right = bot[cx + h] - top[cx + h];
+    dx = static_cast<float>(static_cast<int32_t>(right - 2u * centreCol + left));
+    const uint32_t topRow = mid[cx + h] - mid[cx - h] - (top[cx + h] - top[cx - h]);
+    const uint32_t all = bot[cx + h] - bot[cx - h] - (top[cx + h] - top[cx - h]);
+    dy = static_cast<float>(static_cast<int32_t>(all - 2u * topRow));
+  }
+
+ private:
+  cv::Mat table_;  // (rows+1) x (cols+1), CV_32S storage read as uint32_t
+  const uint32_t* data_ = nullptr;
+  std::ptrdiff_t stride_ = 0;
+  int rows_ = 0;
+  int cols_ = 0;
+};
+
+/// Paper: scale s = 1.2 / 9 * filter size (KeyPoint::size holds the filter size).
+inline float scaleOfSize(float filterSize) { return filterSize * (1.2f / 9.f); }
+
+}  // namespace slamdunk::surf

@@ -1,0 +1,134 @@
+#include "TumToRawlog.h"
+
+#include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/Pose.h>
+#include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/TimestampAssociation.h>
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace fs = std::filesystem;
+
+namespace slamdunk {
+
+namespace {
+
+std::string defaultGroundTruthPath(const std::string& rawlogPath) {
+  fs::path p(rawlogPath);
+  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
+}
+
+/// A folder written under a temporary name and swapped in by commit(), like AtomicOutput.
+class AtomicFolder {
+ public:
+  explicit AtomicFolder(std::string target)
+      : target_(std::move(target)), temp_(target_ + ".tmp-" + std::to_string(::getpid())) {
+    fs::remove_all(temp_);
+    fs::create_directories(temp_);
+  }
+  ~AtomicFolder() {
+    std::error_code ec;
+    if (!committed_) fs::remove_all(temp_, ec);
+  }
+  const std::string& tempPath() const { return temp_; }
+  void commit() {
+    fs::remove_all(target_);
+    fs::rename(temp_, target_);
+    committed_ = true;
+  }
+
+ private:
+  std::string target_, temp_;
+  bool committed_ = false;
+};
+
+}  // namespace
+
+TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
+                                      const std::function<void(size_t, size_t)>& progress) {
+  const TumSequence seq(opts.sequenceFolder, opts.maxDifference);
+  if (seq.frames().empty())
+    throw std::runtime_error("no colour/depth pair in '" + opts.sequenceFolder +
+                             "' associates within " + std::to_string(opts.maxDifference) + " s");
+
+  TumToRawlogSummary sum;
+  const size_t n = opts.maxFrames ? std::min(opts.maxFrames, seq.frames().size())
+                                  : seq.frames().size();
+  sum.rgbUnpaired = seq.rgbCount() - seq.frames().size();
+  sum.depthUnpaired = seq.depthCount() - seq.frames().size();
+  sum.firstStamp = seq.frames().front().rgbStamp;
+  sum.lastStamp = seq.frames()[n - 1].rgbStamp;
+
+  // Ground-truth pose per frame (nearest stamp, TUM association) for the optional observations.
+  std::vector<int> gtIndexOfFrame(n, -1);
+  if (opts.groundTruthObservations && seq.hasGroundTruth()) {
+    std::vector<double> frameStamps, gtStamps;
+    for (size_t i = 0; i < n; ++i) frameStamps.push_back(seq.frames()[i].rgbStamp);
+    for (const auto& p : seq.groundTruth()) gtStamps.push_back(p.timestamp);
+    for (const auto& [i, j] : associateTimestamps(frameStamps, gtStamps, opts.maxDifference))
+      gtIndexOfFrame[i] = static_cast<int>(j);
+  }
+
+  AtomicOutput rawlogOut(opts.rawlogPath);
+  std::unique_ptr<AtomicFolder> images;
+  if (opts.externalImages) {
+    sum.imagesFolder = RawlogReader::imagesDirectoryFor(opts.rawlogPath);
+    images = std::make_unique<AtomicFolder>(sum.imagesFolder);
+  }
+  {
+    mrpt::io::CFileGZOutputStream file;
+    if (!file.open(rawlogOut.tempPath()))
+      throw std::runtime_error("cannot write rawlog '" + opts.rawlogPath + "'");
+    auto archive = mrpt::serialization::archiveFrom(file);
+    for (size_t i = 0; i < n; ++i) {
+      auto obs = seq.loadObservation(i, opts.calibration);
+      if (images) {
+        char frameName[64];
+        // The colour file is copied byte for byte (no re-encoding); depth goes to MRPT's own
+        // external matrix format, which keeps the raw 16-bit values.
+        const fs::path rgbSrc(seq.frames()[i].rgbFile);
+        std::snprintf(frameName, sizeof(frameName), "%06zu_rgb", i);
+        const std::string rgbName = frameName + rgbSrc.extension().string();
+        fs::copy_file(rgbSrc, fs::path(images->tempPath()) / rgbName);
+        obs->intensityImage.setExternalStorage(rgbName);
+        std::snprintf(frameName, sizeof(frameName), "%06zu_depth.bin", i);
+        obs->rangeImage_convertToExternalStorage(frameName, images->tempPath() + "/");
+      }
+      archive << *obs;
+      if (gtIndexOfFrame[i] >= 0) {
+        const Pose& T_w_opt = seq.groundTruth()[gtIndexOfFrame[i]].pose;
+        mrpt::obs::CObservationRobotPose gt;
+        gt.sensorLabel = "GROUND_TRUTH";
+        gt.timestamp = obs->timestamp;
+        gt.pose.mean = toCPose3D(opticalToSensorPose(T_w_opt));
+        archive << gt;
+        ++sum.groundTruthObservations;
+      }
+      ++sum.frames;
+      if (progress) progress(i + 1, n);
+    }
+    file.close();
+  }
+
+  // Ground truth goes first: if it fails, the rawlog has not been replaced yet.
+  if (seq.hasGroundTruth()) {
+    sum.groundTruthPath =
+        opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath) : opts.groundTruthPath;
+    writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(),
+                       "ground truth of " + opts.sequenceFolder + " (optical frame, TUM format)");
+    sum.groundTruthPoses = seq.groundTruth().size();
+  }
+  if (images) images->commit();
+  rawlogOut.commit();
+  return sum;
+}
+
+}  // namespace slamdunk

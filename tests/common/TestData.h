@@ -1,0 +1,34 @@
+#pragma once
+// Where tests find real recordings and the project's own tools.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace slamdunk::test {
+
+/// $SLAMDUNK_DATA_DIR if set, else <source>/../shared/data.
+std::string dataDir();
+/// dataDir() + "/" + relative; empty string if it does not exist.
+std::string dataPath(const std::string& relative);
+/// <build>/bin/<name>: command-line tools built by this project.
+std::string toolPath(const std::string& name);
+std::string sourceDir();
+/// A fresh, empty scratch folder for one test (under the build tree).
+std::string scratchDir(const std::string& testName);
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  ///< stdout and stderr together
+};
+/// Runs a shell command line and captures its output and exit code.
+CommandResult runCommand(const std::string& commandLine);
+
+}  // namespace slamdunk::test
+
+/// Skips the current test with a clear message when a dataset folder/file is missing.
+#define SLAMDUNK_REQUIRE_DATA(var, relative)                                                  \
+  const std::string var = ::slamdunk::test::dataPath(relative);                              \
+  if (var.empty())                                                                           \
+  GTEST_SKIP() << "test data '" << relative << "' not found under " << ::slamdunk::test::dataDir() \
+               << " (set SLAMDUNK_DATA_DIR to the shared data folder)"
