@@ -27,3 +27,26 @@ function(slamdunk_add_tool NAME)
   set_target_properties(${NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
   install(TARGETS ${NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
+
+# Folder names listed in SLAMDUNK_SKIP_DIRS are left out of the build (partial builds, e.g. a
+# machine without EGL can skip "synthetic"). Everything is built by default.
+set(SLAMDUNK_SKIP_DIRS "" CACHE STRING "Module/tool/test folder names to leave out of the build")
+
+# slamdunk_add_subdirectories(): adds every direct subfolder that has a CMakeLists.txt, or, with
+# ORDER a b c, those folders in that order.
+function(slamdunk_add_subdirectories)
+  cmake_parse_arguments(ARG "" "" "ORDER" ${ARGN})
+  if(ARG_ORDER)
+    set(dirs ${ARG_ORDER})
+  else()
+    file(GLOB entries LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}
+      ${CMAKE_CURRENT_SOURCE_DIR}/*)
+    list(SORT entries)
+    set(dirs ${entries})
+  endif()
+  foreach(dir ${dirs})
+    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/CMakeLists.txt AND NOT dir IN_LIST SLAMDUNK_SKIP_DIRS)
+      add_subdirectory(${dir})
+    endif()
+  endforeach()
+endfunction()

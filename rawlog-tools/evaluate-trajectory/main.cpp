@@ -35,10 +35,18 @@ std::string jsonString(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buf[8];
@@ -94,8 +102,8 @@ void printJson(const std::string& gtPath, const std::string& estPath, const Eval
             << "\n}\n";
 }
 
-void printHuman(const std::string& gtPath, const std::string& estPath,
-                const EvaluationOptions& opt, const TrajectoryEvaluation& ev) {
+void printHuman(const std::string& gtPath, const std::string& estPath, const EvaluationOptions& opt,
+                const TrajectoryEvaluation& ev) {
   const ErrorStatistics& a = ev.ate.stats;
   const RpeResult& r = ev.rpe;
   std::printf("ground truth: %s (%zu poses)\n", gtPath.c_str(), ev.groundTruthPoses);
@@ -154,8 +162,8 @@ int main(int argc, char** argv) {
     TCLAP::CmdLine cmd(kDescription, ' ', "1.0");
     TCLAP::UnlabeledValueArg<std::string> gtArg(
         "GROUNDTRUTH", "Ground-truth trajectory (TUM format).", true, "", "GROUNDTRUTH.txt", cmd);
-    TCLAP::UnlabeledValueArg<std::string> estArg(
-        "ESTIMATE", "Estimated trajectory (TUM format).", true, "", "ESTIMATE.txt", cmd);
+    TCLAP::UnlabeledValueArg<std::string> estArg("ESTIMATE", "Estimated trajectory (TUM format).",
+                                                 true, "", "ESTIMATE.txt", cmd);
     TCLAP::SwitchArg jsonArg("", "json", "Print one JSON object on stdout instead of text.", cmd);
     TCLAP::ValueArg<double> maxDtArg(
         "", "max-dt",
@@ -168,9 +176,9 @@ int main(int argc, char** argv) {
         "--delta_unit s). Default 1.0, giving m/s and deg/s. RPE pairs ground truth to "
         "estimated stamps within 2x the median ground-truth interval, as evaluate_rpe.py does.",
         false, 1.0, "seconds", cmd);
-    TCLAP::ValueArg<double> offsetArg(
-        "", "offset", "Time offset added to the estimated stamps (s). Default 0.", false, 0.0,
-        "seconds", cmd);
+    TCLAP::ValueArg<double> offsetArg("", "offset",
+                                      "Time offset added to the estimated stamps (s). Default 0.",
+                                      false, 0.0, "seconds", cmd);
 
     if (!cmd.parse(argc, argv)) return askedForHelpOrVersion(argc, argv) ? 0 : 1;
 

@@ -83,11 +83,13 @@ ErrorStatistics ErrorStatistics::compute(std::vector<double> values) {
 AteResult TrajectoryMetrics::computeAte(const Trajectory& gt, const Trajectory& est,
                                         const std::vector<AssociatedPair>& pairs) {
   if (pairs.empty())
-    throw std::runtime_error("ATE: no associated pose pairs (no estimated stamp is close enough "
-                             "to a ground-truth stamp)");
+    throw std::runtime_error(
+        "ATE: no associated pose pairs (no estimated stamp is close enough "
+        "to a ground-truth stamp)");
   if (pairs.size() < 3)
-    throw std::runtime_error("ATE: only " + std::to_string(pairs.size()) +
-                             " associated pose pair(s); aligning the trajectories needs at least 3");
+    throw std::runtime_error(
+        "ATE: only " + std::to_string(pairs.size()) +
+        " associated pose pair(s); aligning the trajectories needs at least 3");
 
   std::vector<Eigen::Vector3d> estPositions, gtPositions;
   for (const AssociatedPair& p : pairs) {

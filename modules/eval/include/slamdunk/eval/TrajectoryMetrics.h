@@ -23,7 +23,7 @@ struct ErrorStatistics {
 };
 
 struct AteResult {
-  RigidAlignment alignment;  ///< maps estimated positions onto ground-truth positions
+  RigidAlignment alignment;    ///< maps estimated positions onto ground-truth positions
   std::vector<double> errors;  ///< metres, one per associated pair, in association order
   ErrorStatistics stats;       ///< metres
 };
@@ -45,8 +45,8 @@ struct EvaluationOptions {
 };
 
 struct TrajectoryEvaluation {
-  std::size_t groundTruthPoses = 0;  ///< distinct stamps
-  std::size_t estimatePoses = 0;     ///< distinct stamps
+  std::size_t groundTruthPoses = 0;        ///< distinct stamps
+  std::size_t estimatePoses = 0;           ///< distinct stamps
   std::size_t duplicateStampsDropped = 0;  ///< over both inputs (last line of a stamp wins)
   std::size_t pairs = 0;                   ///< associated (gt, estimate) pairs used by ATE
   std::size_t unmatchedEstimatePoses = 0;  ///< estimated poses without a ground-truth partner

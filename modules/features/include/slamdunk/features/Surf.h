@@ -10,6 +10,25 @@
 
 namespace slamdunk {
 
+/// Settings of slamdunk::Surf (also reachable as Surf::Params).
+struct SurfParams {
+  /// Keep maxima whose Hessian determinant exceeds this. Each lobe of the box filters is
+  /// averaged (sum / lobe area) on a 0..255 image, as in OpenCV's SURF, so values tuned there
+  /// carry over: 100-500 gives a few hundred to ~1000 keypoints on a VGA frame.
+  double hessianThreshold = 500.0;
+  /// Number of octaves; each doubles the filter-size step and the sampling step.
+  int nOctaves = 4;
+  /// Scales searched per octave; each octave evaluates nOctaveLayers + 2 filter sizes.
+  int nOctaveLayers = 2;
+  /// false: 64-value descriptor; true: 128 values (sums split by the sign of the other axis).
+  bool extended = false;
+  /// true: skip orientation assignment (faster; fine when the camera does not roll much).
+  bool upright = false;
+  /// If > 0, keep only the strongest maxKeypoints detections before computing orientations and
+  /// descriptors (saves time; the same as truncating the sorted output).
+  int maxKeypoints = 0;
+};
+
 /// SURF keypoint detector (Fast-Hessian) and descriptor, usable anywhere a cv::Feature2D is.
 ///
 /// Output conventions (the same as OpenCV's SURF, so code written for it carries over):
@@ -30,23 +49,7 @@ namespace slamdunk {
 /// Output is deterministic, also when computed on several threads.
 class Surf : public cv::Feature2D {
  public:
-  struct Params {
-    /// Keep maxima whose Hessian determinant exceeds this. Each lobe of the box filters is
-    /// averaged (sum / lobe area) on a 0..255 image, as in OpenCV's SURF, so values tuned there
-    /// carry over: 100-500 gives a few hundred to ~1000 keypoints on a VGA frame.
-    double hessianThreshold = 500.0;
-    /// Number of octaves; each doubles the filter-size step and the sampling step.
-    int nOctaves = 4;
-    /// Scales searched per octave; each octave evaluates nOctaveLayers + 2 filter sizes.
-    int nOctaveLayers = 2;
-    /// false: 64-value descriptor; true: 128 values (sums split by the sign of the other axis).
-    bool extended = false;
-    /// true: skip orientation assignment (faster; fine when the camera does not roll much).
-    bool upright = false;
-    /// If > 0, keep only the strongest maxKeypoints detections before computing orientations and
-    /// descriptors (saves time; the same as truncating the sorted output).
-    int maxKeypoints = 0;
-  };
+  using Params = SurfParams;
 
   explicit Surf(const Params& params = Params());
   static cv::Ptr<Surf> create(const Params& params = Params());

@@ -29,10 +29,10 @@ struct RoomLayout {
 
 /// A box resting on the floor or on another box.
 struct RoomBox {
-  double x = 0, z = 0;                      ///< centre of the footprint
+  double x = 0, z = 0;                           ///< centre of the footprint
   double sizeX = 0.5, sizeY = 0.5, sizeZ = 0.5;  ///< sizeY is the height
-  double yawDeg = 0;                        ///< rotation about the vertical axis
-  double baseY = 1.3;                       ///< y of the bottom face (floorY when on the floor)
+  double yawDeg = 0;                             ///< rotation about the vertical axis
+  double baseY = 1.3;  ///< y of the bottom face (floorY when on the floor)
 };
 
 class SyntheticScene {

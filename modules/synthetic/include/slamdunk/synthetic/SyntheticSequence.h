@@ -1,0 +1,98 @@
+#pragma once
+// Synthetic RGB-D sequences with exact ground truth: SyntheticScene rendered by
+// SyntheticRenderer along a SyntheticTrajectory, as CObservation3DRangeScan observations laid
+// out exactly like tum2rawlog's (raw 16-bit depth, rangeUnits = 1/5000, range_is_depth, BGR
+// colour, identical pinhole intrinsics for both cameras), so the pipeline treats both alike.
+// The camera poses go to a TUM ground-truth file (optical frame T_w_opt, same timestamps).
+
+#include <slamdunk/core/CameraIntrinsics.h>
+#include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/synthetic/SyntheticTrajectory.h>
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace slamdunk {
+
+class SyntheticScene;
+class SyntheticRenderer;
+
+struct SyntheticOptions {
+  std::string trajectory = "loop";  ///< see SyntheticTrajectory::names()
+  int frames = 0;                   ///< 0 = the trajectory's default count
+  unsigned seed = 1;                ///< selects the textures (and the depth noise)
+  int width = 640, height = 480;
+  double fx = 525, fy = 525, cx = 319.5, cy = 239.5;
+  double depthNoiseSigma = 0;   ///< metres; Gaussian noise added to valid depth (0 = exact)
+  bool externalImages = false;  ///< writeSyntheticSequence: images in <name>_Images/
+  int supersampling = 3;        ///< colour anti-aliasing factor (odd), see SyntheticRenderer
+  bool ceiling = true;
+
+  CameraIntrinsics intrinsics() const;
+  /// Throws std::invalid_argument naming the first bad option.
+  void validate() const;
+};
+
+/// Renders frames of one sequence on demand, in any order; frame i depends only on the options
+/// and i. Creates one offscreen OpenGL context: use it from one thread.
+class SyntheticSequence {
+ public:
+  static constexpr const char* kSensorLabel = "SYNTH_RGBD";
+  static constexpr double kDepthFactor = 5000.0;  ///< raw depth units per metre (TUM)
+
+  /// Validates the options, builds the room and the renderer. Throws std::invalid_argument for
+  /// bad options, std::runtime_error when no OpenGL context is available.
+  explicit SyntheticSequence(const SyntheticOptions& options);
+  ~SyntheticSequence();
+
+  size_t size() const { return groundTruth_.size(); }
+  /// T_w_opt and timestamp of every frame.
+  const Trajectory& groundTruth() const { return groundTruth_; }
+  const SyntheticOptions& options() const { return options_; }
+  const SyntheticScene& scene() const { return *scene_; }
+
+  /// Frame i as an observation (colour and depth in memory).
+  mrpt::obs::CObservation3DRangeScan::Ptr renderFrame(size_t i);
+  /// Frame i as images: BGR CV_8UC3 and z-depth CV_32F metres (already quantised to 1/5000 m
+  /// and noisy exactly as in the observation).
+  void renderImages(size_t i, cv::Mat& bgr, cv::Mat& depthMetres);
+
+ private:
+  void renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw);
+  SyntheticOptions options_;
+  Trajectory groundTruth_;
+  std::unique_ptr<SyntheticScene> scene_;
+  std::unique_ptr<SyntheticRenderer> renderer_;
+};
+
+using ProgressCallback = std::function<void(size_t done, size_t total)>;
+
+/// Renders the whole sequence in memory (for tests; a 400-frame VGA sequence takes ~600 MB).
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> renderSyntheticSequence(
+    const SyntheticOptions& options, Trajectory* groundTruthOut,
+    const ProgressCallback& progress = {});
+
+struct SyntheticSequenceSummary {
+  size_t frames = 0;
+  TrajectoryStats stats;
+  std::string rawlogPath, groundTruthPath, imagesFolder;
+  double renderSeconds = 0;  ///< wall time spent rendering (all frames)
+};
+
+/// "<rawlog without .rawlog>_groundtruth.txt"
+std::string defaultSyntheticGroundTruthPath(const std::string& rawlogPath);
+
+/// Renders frame by frame into rawlogPath (observation-only format) and writes the ground truth
+/// (TUM, optical frame) to groundTruthPath (empty = default path). Existing files are replaced
+/// only when everything succeeded. With options.externalImages, colour PNGs and MRPT external
+/// depth matrices go to "<dir>/<name>_Images/" (also swapped in only on success).
+SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
+                                                const std::string& rawlogPath,
+                                                const std::string& groundTruthPath = {},
+                                                const ProgressCallback& progress = {});
+
+}  // namespace slamdunk

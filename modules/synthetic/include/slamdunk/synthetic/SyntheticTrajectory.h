@@ -1,0 +1,47 @@
+#pragma once
+// Named camera trajectories through the SyntheticScene room: optical-frame poses T_w_opt at
+// 30 Hz. The world frame is gravity aligned (y down, floor at y = RoomLayout::floorY), and the
+// camera stays nearly level (a few degrees of roll, a downward pitch) like a hand-held one.
+
+#include <slamdunk/core/TumTrajectory.h>
+
+#include <string>
+#include <vector>
+
+namespace slamdunk {
+
+/// Speeds and extent of a trajectory, for summaries and tests.
+struct TrajectoryStats {
+  size_t frames = 0;
+  double duration = 0;            ///< seconds, last minus first stamp
+  double pathLength = 0;          ///< metres, sum of frame-to-frame translations
+  double maxSpeed = 0;            ///< m/s between consecutive frames
+  double maxAngularSpeedDeg = 0;  ///< deg/s between consecutive frames
+  double totalRotationDeg = 0;    ///< sum of frame-to-frame rotation angles
+};
+
+class SyntheticTrajectory {
+ public:
+  static constexpr double kFrameRate = 30.0;
+  /// First timestamp (s): a fixed, TUM-like epoch value, never 0 (MRPT's invalid timestamp).
+  static constexpr double kStartTime = 1700000000.0;
+
+  /// "sweep": a small hand-held sweep (150 frames, 5 s): about 40 cm sideways and 15 cm
+  ///   forward while panning 30 degrees, eased in and out, facing the +z wall and its boxes.
+  /// "loop": a closed loop (400 frames, 13.3 s) on a 1 m circle around the room centre, looking
+  ///   outward and sideways at the walls, turning 360 degrees; the last pose equals the first.
+  static std::vector<std::string> names();
+  static bool isKnown(const std::string& name);
+  /// Frames used when the caller asks for 0.
+  static int defaultFrames(const std::string& name);
+
+  /// Samples the whole shape of trajectory `name` with `frames` poses (0 = default count) at
+  /// kFrameRate: fewer frames = a faster camera over the same path. Throws
+  /// std::invalid_argument for an unknown name or fewer than 2 frames.
+  static Trajectory generate(const std::string& name, int frames = 0,
+                             double startTime = kStartTime);
+
+  static TrajectoryStats stats(const Trajectory& trajectory);
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,220 @@
+#include <slamdunk/synthetic/SyntheticScene.h>
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfTexturedTriangles.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <array>
+#include <cmath>
+
+namespace slamdunk {
+
+namespace {
+
+using mrpt::math::TPoint3Df;
+
+cv::Scalar randomColour(cv::RNG& rng) {
+  // Independent channels over the full range: neighbouring shapes differ strongly in both
+  // brightness and hue, which is what corner and blob detectors respond to.
+  return cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
+}
+
+cv::Point randomPoint(cv::RNG& rng, int w, int h) { return {rng.uniform(0, w), rng.uniform(0, h)}; }
+
+void drawRotatedRect(cv::Mat& img, cv::RNG& rng, int minSize, int maxSize, bool filled) {
+  const cv::Point2f c = randomPoint(rng, img.cols, img.rows);
+  const cv::Size2f s(float(rng.uniform(minSize, maxSize)), float(rng.uniform(minSize, maxSize)));
+  // Mostly axis-aligned (like posters and tiles) but some rotated ones too.
+  const float angle = rng.uniform(0, 3) == 0 ? rng.uniform(0.f, 180.f) : 0.f;
+  cv::Point2f corners[4];
+  cv::RotatedRect(c, s, angle).points(corners);
+  std::vector<cv::Point> poly(corners, corners + 4);
+  if (filled)
+    cv::fillConvexPoly(img, poly, randomColour(rng), cv::LINE_AA);
+  else
+    cv::polylines(img, poly, true, randomColour(rng), rng.uniform(1, 4), cv::LINE_AA);
+}
+
+void drawEllipse(cv::Mat& img, cv::RNG& rng, int minSize, int maxSize) {
+  const cv::Point c = randomPoint(rng, img.cols, img.rows);
+  const cv::Size axes(rng.uniform(minSize, maxSize) / 2 + 1, rng.uniform(minSize, maxSize) / 2 + 1);
+  const int thickness = rng.uniform(0, 3) == 0 ? rng.uniform(1, 4) : cv::FILLED;
+  cv::ellipse(img, c, axes, rng.uniform(0.0, 180.0), 0, 360, randomColour(rng), thickness,
+              cv::LINE_AA);
+}
+
+void drawLine(cv::Mat& img, cv::RNG& rng, int minLen, int maxLen) {
+  const cv::Point a = randomPoint(rng, img.cols, img.rows);
+  const double angle = rng.uniform(0.0, 2 * M_PI);
+  const double len = rng.uniform(minLen, maxLen);
+  const cv::Point b(a.x + int(len * std::cos(angle)), a.y + int(len * std::sin(angle)));
+  cv::line(img, a, b, randomColour(rng), rng.uniform(1, 5), cv::LINE_AA);
+}
+
+void drawText(cv::Mat& img, cv::RNG& rng, double minScale, double maxScale) {
+  static const std::array<int, 6> fonts = {
+      cv::FONT_HERSHEY_SIMPLEX, cv::FONT_HERSHEY_PLAIN,   cv::FONT_HERSHEY_DUPLEX,
+      cv::FONT_HERSHEY_COMPLEX, cv::FONT_HERSHEY_TRIPLEX, cv::FONT_HERSHEY_SCRIPT_SIMPLEX};
+  static const char alphabet[] = "ABCDEFGHJKLMNPQRSTUVWXYZabdefghkmnqrt0123456789#%&@";
+  std::string text;
+  const int len = rng.uniform(2, 9);
+  for (int i = 0; i < len; ++i) text += alphabet[rng.uniform(0, int(sizeof(alphabet) - 1))];
+  const double scale = rng.uniform(minScale, maxScale);
+  cv::putText(img, text, randomPoint(rng, img.cols, img.rows), fonts[rng.uniform(0, 6)], scale,
+              randomColour(rng), std::max(1, int(scale * rng.uniform(0.8, 2.5))), cv::LINE_AA);
+}
+
+/// One textured rectangle: p00..p01 get texture coordinates (0,0), (1,0), (1,1), (0,1), with
+/// u along the image columns and v along the rows.
+void addQuad(mrpt::opengl::CSetOfTexturedTriangles& obj, const TPoint3Df& p00, const TPoint3Df& p10,
+             const TPoint3Df& p11, const TPoint3Df& p01, float u0 = 0, float v0 = 0, float u1 = 1,
+             float v1 = 1) {
+  mrpt::opengl::TTriangle t1(p00, p10, p11), t2(p00, p11, p01);
+  t1.u(0) = u0, t1.v(0) = v0, t1.u(1) = u1, t1.v(1) = v0, t1.u(2) = u1, t1.v(2) = v1;
+  t2.u(0) = u0, t2.v(0) = v0, t2.u(1) = u1, t2.v(1) = v1, t2.u(2) = u0, t2.v(2) = v1;
+  // The texture is multiplied by the vertex colour: white keeps it unchanged.
+  t1.setColor(mrpt::img::TColor(255, 255, 255));
+  t2.setColor(mrpt::img::TColor(255, 255, 255));
+  obj.insertTriangle(t1);
+  obj.insertTriangle(t2);
+}
+
+mrpt::opengl::CSetOfTexturedTriangles::Ptr texturedObject(const cv::Mat& texture) {
+  auto obj = mrpt::opengl::CSetOfTexturedTriangles::Create();
+  // Unlit: the colour of a surface point does not depend on the viewpoint (a Lambertian surface
+  // under fixed light), so the same point looks the same in every frame.
+  obj->enableLight(false);
+  obj->enableTextureLinearInterpolation(true);
+  obj->assignImage(mrpt::img::CImage(texture.clone(), mrpt::img::DEEP_COPY));
+  return obj;
+}
+
+std::vector<RoomBox> defaultBoxes(const RoomLayout& r) {
+  // Fixed layout: against the walls, at least 0.9 m away from the camera paths of
+  // SyntheticTrajectory (a 1 m circle around the room centre and the sweep near it).
+  const double f = r.floorY;
+  std::vector<RoomBox> b = {
+      {r.xMax - 0.6, 1.6, 0.8, 0.9, 0.6, 10, f},  {r.xMax - 0.5, -0.8, 0.6, 0.5, 0.7, -15, f},
+      {r.xMin + 0.5, 0.5, 0.7, 1.1, 0.6, 5, f},   {r.xMin + 0.6, -1.8, 0.9, 0.45, 0.6, 30, f},
+      {0.8, r.zMax - 0.5, 1.2, 0.75, 0.5, 0, f},  {-1.1, r.zMax - 0.45, 0.5, 0.5, 0.5, 20, f},
+      {0.3, r.zMin + 0.5, 0.8, 0.6, 0.6, -8, f},  {-1.4, r.zMin + 0.35, 0.4, 1.3, 0.4, 0, f},
+      {1.9, r.zMin + 0.6, 0.5, 0.35, 0.5, 40, f}, {r.xMin + 0.6, 2.2, 0.6, 0.7, 0.6, -25, f},
+  };
+  // Smaller boxes standing on top of others.
+  b.push_back({0.9, r.zMax - 0.5, 0.4, 0.3, 0.35, 25, f - 0.75});
+  b.push_back({r.xMax - 0.6, 1.6, 0.35, 0.25, 0.3, -20, f - 0.9});
+  return b;
+}
+
+void addBox(mrpt::opengl::COpenGLScene& scene, const RoomBox& box, const cv::Mat& atlas) {
+  // Texture atlas of 3 x 2 cells, one per visible face (the bottom one is never seen).
+  auto obj = texturedObject(atlas);
+  const double c = std::cos(box.yawDeg * M_PI / 180), s = std::sin(box.yawDeg * M_PI / 180);
+  const double hx = box.sizeX / 2, hz = box.sizeZ / 2;
+  const float top = float(box.baseY - box.sizeY), bottom = float(box.baseY);
+  // Rotation about the vertical (y) axis, as the optical frame's yaw.
+  auto corner = [&](double lx, double lz, float y) {
+    return TPoint3Df(float(box.x + c * lx + s * lz), y, float(box.z - s * lx + c * lz));
+  };
+  const std::array<std::array<double, 2>, 4> footprint = {
+      {{-hx, -hz}, {hx, -hz}, {hx, hz}, {-hx, hz}}};
+  int cell = 0;
+  auto cellUV = [&](int k, float& u0, float& v0, float& u1, float& v1) {
+    u0 = float(k % 3) / 3, u1 = u0 + 1.f / 3, v0 = float(k / 3) / 2, v1 = v0 + 0.5f;
+  };
+  float u0, v0, u1, v1;
+  for (int i = 0; i < 4; ++i, ++cell) {  // side faces, texture upright
+    const auto& a = footprint[i];
+    const auto& b = footprint[(i + 1) % 4];
+    cellUV(cell, u0, v0, u1, v1);
+    addQuad(*obj, corner(a[0], a[1], top), corner(b[0], b[1], top), corner(b[0], b[1], bottom),
+            corner(a[0], a[1], bottom), u0, v0, u1, v1);
+  }
+  cellUV(cell, u0, v0, u1, v1);
+  addQuad(*obj, corner(-hx, hz, top), corner(hx, hz, top), corner(hx, -hz, top),
+          corner(-hx, -hz, top), u0, v0, u1, v1);
+  scene.insert(obj);
+}
+
+}  // namespace
+
+cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed) {
+  // cv::RNG is a fixed multiply-with-carry generator: the same seed gives the same texture on
+  // every platform and run. Mix the seed so that nearby seeds give unrelated sequences.
+  cv::RNG rng(seed * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL);
+  const int w = width, h = height;
+
+  // 1. Smooth background: a coarse random colour grid interpolated to full size.
+  cv::Mat coarse(std::max(2, h / 96), std::max(2, w / 96), CV_8UC3);
+  rng.fill(coarse, cv::RNG::UNIFORM, 30, 225);
+  cv::Mat tex;
+  cv::resize(coarse, tex, cv::Size(w, h), 0, 0, cv::INTER_CUBIC);
+
+  // 2. Shapes at several scales; counts scale with the area so the density is the same on
+  // every surface. Large shapes first so smaller ones land on top of them.
+  const double area = double(w) * h;
+  const int unit = std::max(8, std::min(w, h) / 16);  // "large" shape size in texels
+  for (int i = 0; i < int(area / 60000); ++i) drawRotatedRect(tex, rng, unit, 4 * unit, true);
+  for (int i = 0; i < int(area / 60000); ++i) drawEllipse(tex, rng, unit, 3 * unit);
+  for (int i = 0; i < int(area / 8000); ++i)
+    drawRotatedRect(tex, rng, 8, 50, rng.uniform(0, 4) > 0);
+  for (int i = 0; i < int(area / 8000); ++i) drawEllipse(tex, rng, 6, 40);
+  for (int i = 0; i < int(area / 10000); ++i) drawLine(tex, rng, 20, 250);
+  for (int i = 0; i < int(area / 15000); ++i) drawText(tex, rng, 0.6, 2.5);
+  for (int i = 0; i < int(area / 2500); ++i) drawEllipse(tex, rng, 3, 10);
+
+  // 3. Fine grain (like paper or fabric): low-amplitude noise, slightly blurred.
+  cv::Mat noise(h, w, CV_16SC3);
+  rng.fill(noise, cv::RNG::NORMAL, 0, 14);
+  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 0.8);
+  cv::Mat tex16;
+  tex.convertTo(tex16, CV_16SC3);
+  tex16 += noise;
+  tex16.convertTo(tex, CV_8UC3);  // saturates
+
+  // 4. Mild low-pass: the renderer samples textures without mipmaps, so detail much finer than
+  // a pixel would alias (flicker) between frames.
+  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 0.7);
+  return tex;
+}
+
+SyntheticScene::~SyntheticScene() = default;
+
+SyntheticScene::SyntheticScene(unsigned seed, bool withCeiling)
+    : scene_(mrpt::opengl::COpenGLScene::Create()) {
+  const RoomLayout& r = layout_;
+  auto& scene = *scene_;
+  scene.getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(0, 0, 0));
+  uint64_t textureId = uint64_t(seed) << 16;  // one texture seed per surface
+
+  const float x0 = float(r.xMin), x1 = float(r.xMax), z0 = float(r.zMin), z1 = float(r.zMax);
+  const float yf = float(r.floorY), yc = float(r.ceilingY);
+  // Walls: texture rows run downwards (+y) and columns to the right as seen from inside the
+  // room, so text on the walls reads normally. Powers of two avoid MRPT padding the textures;
+  // about 3 mm per texel, finer than a VGA pixel at the usual 1.5-3 m.
+  auto wall = [&](const TPoint3Df& topLeft, const TPoint3Df& topRight) {
+    auto obj = texturedObject(makeTexture(2048, 1024, ++textureId));
+    addQuad(*obj, topLeft, topRight, {topRight.x, yf, topRight.z}, {topLeft.x, yf, topLeft.z});
+    scene.insert(obj);
+  };
+  wall({x0, yc, z1}, {x1, yc, z1});  // far wall (+z), seen looking along +z
+  wall({x1, yc, z0}, {x0, yc, z0});  // near wall (-z)
+  wall({x1, yc, z1}, {x1, yc, z0});  // +x wall
+  wall({x0, yc, z0}, {x0, yc, z1});  // -x wall
+
+  auto floor = texturedObject(makeTexture(2048, 2048, ++textureId));
+  addQuad(*floor, {x0, yf, z1}, {x1, yf, z1}, {x1, yf, z0}, {x0, yf, z0});
+  scene.insert(floor);
+  if (withCeiling) {
+    auto ceiling = texturedObject(makeTexture(1024, 1024, ++textureId));
+    addQuad(*ceiling, {x0, yc, z0}, {x1, yc, z0}, {x1, yc, z1}, {x0, yc, z1});
+    scene.insert(ceiling);
+  }
+
+  boxes_ = defaultBoxes(r);
+  for (const auto& box : boxes_) addBox(scene, box, makeTexture(1024, 512, ++textureId));
+}
+
+}  // namespace slamdunk

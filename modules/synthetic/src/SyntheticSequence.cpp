@@ -1,0 +1,231 @@
+#include <slamdunk/synthetic/SyntheticSequence.h>
+
+#include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/synthetic/SyntheticRenderer.h>
+#include <slamdunk/synthetic/SyntheticScene.h>
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+namespace fs = std::filesystem;
+
+namespace slamdunk {
+
+namespace {
+
+/// A folder written under a temporary name and swapped in by commit(), like AtomicOutput.
+class AtomicFolder {
+ public:
+  explicit AtomicFolder(std::string target)
+      : target_(std::move(target)), temp_(target_ + ".tmp-" + std::to_string(::getpid())) {
+    fs::remove_all(temp_);
+    fs::create_directories(temp_);
+  }
+  ~AtomicFolder() {
+    std::error_code ec;
+    if (!committed_) fs::remove_all(temp_, ec);
+  }
+  AtomicFolder(const AtomicFolder&) = delete;
+  AtomicFolder& operator=(const AtomicFolder&) = delete;
+  const std::string& tempPath() const { return temp_; }
+  void commit() {
+    fs::remove_all(target_);
+    fs::rename(temp_, target_);
+    committed_ = true;
+  }
+
+ private:
+  std::string target_, temp_;
+  bool committed_ = false;
+};
+
+}  // namespace
+
+CameraIntrinsics SyntheticOptions::intrinsics() const {
+  CameraIntrinsics K;
+  K.width = width;
+  K.height = height;
+  K.fx = fx;
+  K.fy = fy;
+  K.cx = cx;
+  K.cy = cy;
+  return K;
+}
+
+void SyntheticOptions::validate() const {
+  if (!SyntheticTrajectory::isKnown(trajectory))
+    throw std::invalid_argument("unknown trajectory '" + trajectory + "' (known: sweep, loop)");
+  if (frames < 0 || frames == 1)
+    throw std::invalid_argument("frames must be 0 (trajectory default) or at least 2, not " +
+                                std::to_string(frames));
+  if (width < 16 || height < 16 || width > 4096 || height > 4096)
+    throw std::invalid_argument("image size " + std::to_string(width) + "x" +
+                                std::to_string(height) + " is out of range (16..4096)");
+  for (double v : {fx, fy})
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("focal lengths must be positive and finite");
+  if (!std::isfinite(cx) || !std::isfinite(cy))
+    throw std::invalid_argument("principal point must be finite");
+  if (!(depthNoiseSigma >= 0) || depthNoiseSigma > 1.0)
+    throw std::invalid_argument("depth noise sigma must be in [0, 1] m, not " +
+                                std::to_string(depthNoiseSigma));
+  if (supersampling < 1 || supersampling % 2 == 0 || supersampling > 7)
+    throw std::invalid_argument("supersampling must be 1, 3, 5 or 7");
+}
+
+SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_(options) {
+  options_.validate();
+  groundTruth_ = SyntheticTrajectory::generate(options_.trajectory, options_.frames);
+  scene_ = std::make_unique<SyntheticScene>(options_.seed, options_.ceiling);
+  renderer_ = std::make_unique<SyntheticRenderer>(options_.intrinsics(), options_.supersampling);
+}
+
+SyntheticSequence::~SyntheticSequence() = default;
+
+void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
+  if (i >= size())
+    throw std::out_of_range("synthetic frame " + std::to_string(i) + " of " +
+                            std::to_string(size()));
+  cv::Mat depth;
+  renderer_->render(scene_->scene(), groundTruth_[i].pose, bgr, depth);
+  if (options_.depthNoiseSigma > 0) {
+    // Seeded by (seed, frame): the noise of a frame does not depend on which frames were
+    // rendered before it.
+    cv::RNG rng((uint64_t(options_.seed) << 32) ^ (uint64_t(i) * 0x9E3779B97F4A7C15ULL) ^
+                0x5DEECE66DULL);
+    cv::Mat noise(depth.size(), CV_32F);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, options_.depthNoiseSigma);
+    const cv::Mat valid = depth > 0;
+    cv::Mat noisy = depth + noise;
+    noisy.copyTo(depth, valid);
+    depth.setTo(0, depth < 0);
+  }
+  // TUM raw units (0.2 mm), rounded to nearest; 0 = no surface. Depth is below the far clip
+  // (12 m = 60000 units), so it always fits in 16 bits.
+  depth.convertTo(depthRaw, CV_16U, kDepthFactor);
+}
+
+void SyntheticSequence::renderImages(size_t i, cv::Mat& bgr, cv::Mat& depthMetres) {
+  cv::Mat raw;
+  renderRaw(i, bgr, raw);
+  raw.convertTo(depthMetres, CV_32F, 1.0 / kDepthFactor);
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::renderFrame(size_t i) {
+  cv::Mat bgr, raw;
+  renderRaw(i, bgr, raw);
+
+  auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+  obs->sensorLabel = kSensorLabel;
+  obs->timestamp = mrpt::Clock::fromDouble(groundTruth_[i].timestamp);
+  obs->hasIntensityImage = true;
+  obs->intensityImage = mrpt::img::CImage(bgr, mrpt::img::DEEP_COPY);
+  obs->hasRangeImage = true;
+  obs->range_is_depth = true;
+  obs->rangeImage_setSize(raw.rows, raw.cols);
+  for (int r = 0; r < raw.rows; ++r) {
+    const uint16_t* row = raw.ptr<uint16_t>(r);
+    for (int c = 0; c < raw.cols; ++c) obs->rangeImage(r, c) = row[c];
+  }
+  obs->rangeUnits = static_cast<float>(1.0 / kDepthFactor);
+  obs->maxRange = static_cast<float>(65535.0 / kDepthFactor);
+  obs->cameraParamsIntensity = options_.intrinsics().toTCamera();
+  obs->cameraParams = obs->cameraParamsIntensity;  // depth is registered to colour
+  obs->relativePoseIntensityWRTDepth =
+      mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
+  obs->sensorPose = mrpt::poses::CPose3D();  // the world pose lives in the ground-truth file
+  return obs;
+}
+
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> renderSyntheticSequence(
+    const SyntheticOptions& options, Trajectory* groundTruthOut, const ProgressCallback& progress) {
+  SyntheticSequence seq(options);
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> out;
+  out.reserve(seq.size());
+  for (size_t i = 0; i < seq.size(); ++i) {
+    out.push_back(seq.renderFrame(i));
+    if (progress) progress(i + 1, seq.size());
+  }
+  if (groundTruthOut) *groundTruthOut = seq.groundTruth();
+  return out;
+}
+
+std::string defaultSyntheticGroundTruthPath(const std::string& rawlogPath) {
+  const fs::path p(rawlogPath);
+  const std::string stem = p.extension() == ".rawlog" ? p.stem().string() : p.filename().string();
+  return (p.parent_path() / (stem + "_groundtruth.txt")).string();
+}
+
+SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
+                                                const std::string& rawlogPath,
+                                                const std::string& groundTruthPath,
+                                                const ProgressCallback& progress) {
+  if (rawlogPath.empty()) throw std::invalid_argument("no output rawlog path given");
+  SyntheticSequenceSummary sum;
+  sum.rawlogPath = rawlogPath;
+  sum.groundTruthPath =
+      groundTruthPath.empty() ? defaultSyntheticGroundTruthPath(rawlogPath) : groundTruthPath;
+  if (fs::path(sum.groundTruthPath) == fs::path(rawlogPath))
+    throw std::invalid_argument("the ground truth and the rawlog must be different files");
+
+  SyntheticSequence seq(options);  // validates before any file is touched
+  sum.frames = seq.size();
+  sum.stats = SyntheticTrajectory::stats(seq.groundTruth());
+
+  AtomicOutput rawlogOut(rawlogPath);
+  std::unique_ptr<AtomicFolder> images;
+  if (options.externalImages) {
+    sum.imagesFolder = RawlogReader::imagesDirectoryFor(rawlogPath);
+    images = std::make_unique<AtomicFolder>(sum.imagesFolder);
+  }
+  {
+    mrpt::io::CFileGZOutputStream file;
+    if (!file.open(rawlogOut.tempPath()))
+      throw std::runtime_error("cannot write rawlog '" + rawlogPath + "'");
+    auto archive = mrpt::serialization::archiveFrom(file);
+    for (size_t i = 0; i < seq.size(); ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      auto obs = seq.renderFrame(i);
+      sum.renderSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (images) {
+        // Same layout as tum2rawlog: colour as PNG (lossless), depth as MRPT's external matrix
+        // (raw 16-bit values), names relative to the images folder.
+        char name[64];
+        std::snprintf(name, sizeof(name), "%06zu_rgb.png", i);
+        const std::string rgbFile = (fs::path(images->tempPath()) / name).string();
+        if (!cv::imwrite(rgbFile, obs->intensityImage.asCvMatRef()))
+          throw std::runtime_error("cannot write image '" + rgbFile + "'");
+        obs->intensityImage.setExternalStorage(name);
+        std::snprintf(name, sizeof(name), "%06zu_depth.bin", i);
+        obs->rangeImage_convertToExternalStorage(name, images->tempPath() + "/");
+      }
+      archive << *obs;
+      if (progress) progress(i + 1, seq.size());
+    }
+    file.close();
+  }
+  // Ground truth first: if it fails, neither the rawlog nor the images have been replaced.
+  writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(),
+                     "synthetic RGB-D ground truth: trajectory '" + options.trajectory +
+                         "', seed " + std::to_string(options.seed) +
+                         " (optical frame T_w_opt, world y down, floor at y = " +
+                         std::to_string(seq.scene().layout().floorY) + ")");
+  if (images) images->commit();
+  rawlogOut.commit();
+  return sum;
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,106 @@
+#include <slamdunk/synthetic/SyntheticTrajectory.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace slamdunk {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+/// Optical-frame pose of a nearly level camera in the gravity-aligned world (y down):
+/// yaw about the vertical axis (0 = looking along +z, 90 deg = along +x), then pitch (positive
+/// looks down), then roll about the optical axis.
+Pose cameraPose(const Eigen::Vector3d& position, double yawDeg, double pitchDownDeg,
+                double rollDeg) {
+  Pose T = Pose::Identity();
+  T.linear() = (Eigen::AngleAxisd(yawDeg * kDeg, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(-pitchDownDeg * kDeg, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(rollDeg * kDeg, Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  T.translation() = position;
+  return T;
+}
+
+/// s in [0, 1] along the sweep. Eased in and out (zero speed at both ends, like a person
+/// starting and stopping), facing the +z wall 2.8 m away and its boxes.
+Pose sweepPose(double s) {
+  const double e = (1 - std::cos(M_PI * s)) / 2;  // 0 -> 1 with zero slope at the ends
+  const Eigen::Vector3d start(-0.2, 0.0, 0.2);
+  const Eigen::Vector3d position =
+      start + Eigen::Vector3d(0.40 * e, -0.04 * std::sin(M_PI * s), 0.15 * e);
+  // Turning left while moving right keeps the same part of the room in view (an orbit).
+  const double yaw = 12.0 - 30.0 * e;
+  const double pitch = 14.0 + 3.0 * std::sin(2 * M_PI * s);
+  const double roll = 2.0 * std::sin(3 * M_PI * s);
+  return cameraPose(position, yaw, pitch, roll);
+}
+
+/// s in [0, 1] around the loop; every term is periodic in s, so s = 1 gives the pose at s = 0.
+Pose loopPose(double s) {
+  const double a = 2 * M_PI * s;     // angle travelled
+  const double phi = -M_PI / 2 + a;  // start at (0, 0, -1), counter-clockwise seen from above
+  const double radius = 1.0;
+  const Eigen::Vector3d position(radius * std::cos(phi), 0.03 * std::sin(3 * a),
+                                 radius * std::sin(phi));
+  // Outward (away from the room centre), turned 30 degrees towards the direction of motion.
+  const double outwardYaw = std::atan2(std::cos(phi), std::sin(phi)) / kDeg;
+  const double yaw = outwardYaw - 30.0 + 6.0 * std::sin(2 * a);
+  const double pitch = 14.0 + 3.0 * std::sin(2 * a + 1.0);
+  const double roll = 2.0 * std::sin(3 * a);
+  return cameraPose(position, yaw, pitch, roll);
+}
+
+}  // namespace
+
+std::vector<std::string> SyntheticTrajectory::names() { return {"sweep", "loop"}; }
+
+bool SyntheticTrajectory::isKnown(const std::string& name) {
+  const auto all = names();
+  return std::find(all.begin(), all.end(), name) != all.end();
+}
+
+int SyntheticTrajectory::defaultFrames(const std::string& name) {
+  // Unknown names are rejected here, so generate() checks them whatever the frame count.
+  if (name == "sweep") return 150;
+  if (name == "loop") return 400;
+  throw std::invalid_argument("unknown synthetic trajectory '" + name + "' (known: sweep, loop)");
+}
+
+Trajectory SyntheticTrajectory::generate(const std::string& name, int frames, double startTime) {
+  const int defaults = defaultFrames(name);  // throws for an unknown name
+  const int n = frames == 0 ? defaults : frames;
+  if (n < 2)
+    throw std::invalid_argument("a synthetic trajectory needs at least 2 frames, not " +
+                                std::to_string(n));
+  Trajectory traj(size_t(n), StampedPose{});
+  for (int i = 0; i < n; ++i) {
+    const double s = double(i) / (n - 1);
+    traj[i].timestamp = startTime + i / kFrameRate;
+    traj[i].pose = name == "sweep" ? sweepPose(s) : loopPose(s);
+  }
+  return traj;
+}
+
+TrajectoryStats SyntheticTrajectory::stats(const Trajectory& traj) {
+  TrajectoryStats st;
+  st.frames = traj.size();
+  if (traj.size() < 2) return st;
+  st.duration = traj.back().timestamp - traj.front().timestamp;
+  for (size_t i = 1; i < traj.size(); ++i) {
+    const double dt = traj[i].timestamp - traj[i - 1].timestamp;
+    const double dist = translationDistance(traj[i - 1].pose, traj[i].pose);
+    const double angle = rotationDistance(traj[i - 1].pose, traj[i].pose) / kDeg;
+    st.pathLength += dist;
+    st.totalRotationDeg += angle;
+    if (dt > 0) {
+      st.maxSpeed = std::max(st.maxSpeed, dist / dt);
+      st.maxAngularSpeedDeg = std::max(st.maxAngularSpeedDeg, angle / dt);
+    }
+  }
+  return st;
+}
+
+}  // namespace slamdunk
