@@ -34,8 +34,8 @@ struct Options {
 
 void usage(const char* program) {
   std::cout << "Usage: " << program << " [options] [FOLDER]\n"
-            << "  FOLDER           TUM-layout folder with rgb.txt (default "
-            << Options().folder << ")\n"
+            << "  FOLDER           TUM-layout folder with rgb.txt (default " << Options().folder
+            << ")\n"
             << "  -n, --images N   number of images to use (default 20)\n"
             << "  -r, --repeats R  passes over the images (default 3)\n"
             << "  -t, --threshold  SURF Hessian threshold (default 500)\n"

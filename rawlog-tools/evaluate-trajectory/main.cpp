@@ -140,11 +140,14 @@ Trajectory load(const std::string& role, const std::string& path) {
     throw std::runtime_error(role + " file '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, ec))
     throw std::runtime_error(role + " path '" + path + "' is a directory, not a trajectory file");
+  Trajectory traj;
   try {
-    return readTumTrajectory(path);
+    traj = readTumTrajectory(path);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot read " + role + " trajectory: " + e.what());
   }
+  if (traj.empty()) throw std::runtime_error(role + " file '" + path + "' contains no poses");
+  return traj;
 }
 
 bool askedForHelpOrVersion(int argc, char** argv) {

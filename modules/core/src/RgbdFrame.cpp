@@ -10,9 +10,10 @@
 namespace slamdunk {
 
 RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
-                     CameraIntrinsics intrinsics)
+                     CameraIntrinsics intrinsics, cv::Mat colour)
     : timestamp_(timestamp),
       grey_(std::move(grey)),
+      colour_(std::move(colour)),
       depth_(std::move(depthMetres)),
       intrinsics_(intrinsics) {
   if (grey_.type() != CV_8UC1) throw std::invalid_argument("RgbdFrame: grey image must be CV_8UC1");
@@ -68,7 +69,8 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
   }
   if (!(K.fx > 0 && K.fy > 0))
     throw std::runtime_error(what + " has invalid colour camera intrinsics (fx, fy must be > 0)");
-  return RgbdFrame(mrpt::Clock::toDouble(obs.timestamp), std::move(grey), std::move(depth), K);
+  return RgbdFrame(mrpt::Clock::toDouble(obs.timestamp), std::move(grey), std::move(depth), K,
+                   colour.channels() == 3 ? colour : cv::Mat());
 }
 
 float RgbdFrame::depthAt(double u, double v) const {

@@ -47,7 +47,7 @@ const std::vector<OrientationSample>& orientationSamples() {
 
 /// Gaussian weight of descriptor sample (k, m), k along the keypoint's x axis, m along its y.
 const std::array<float, kSamples * kSamples>& descriptorWeights() {
-  static const std::array<float, kSamples * kSamples> weights = [] {
+  static const std::array<float, kSamples* kSamples> weights = [] {
     std::array<float, kSamples * kSamples> w{};
     const float c = 0.5f * (kSamples - 1);
     for (int m = 0; m < kSamples; ++m)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace slamdunk::surf {
 namespace {
@@ -39,8 +40,8 @@ struct HessianKernel {
 
   HessianKernel(int size, std::ptrdiff_t stride) {
     const int l = size / 3;
-    const int half = size / 2;      // (3l - 1) / 2: half extent of the long side
-    const int midHalf = l / 2;      // (l - 1) / 2: half extent of the middle lobe
+    const int half = size / 2;  // (3l - 1) / 2: half extent of the long side
+    const int midHalf = l / 2;  // (l - 1) / 2: half extent of the middle lobe
     yyAll = makeBox(-(l - 1), -half, l, half + 1, stride);
     yyMid = makeBox(-(l - 1), -midHalf, l, midHalf + 1, stride);
     xxAll = makeBox(-half, -(l - 1), half + 1, l, stride);
@@ -69,16 +70,43 @@ inline Hessian hessianAt(const uint32_t* p, const HessianKernel& k) {
   return {xx * k.invLobeArea, yy * k.invLobeArea, xy * k.invSquareArea};
 }
 
-/// Determinant of the approximated Hessian along one grid row. kStep > 0 fixes the sampling
-/// step at compile time: with kStep == 1 the loads are contiguous and the compiler vectorises.
+/// Pointers to the four integral-image corners of a box for the sample at centre.
+struct BoxCorners {
+  const uint32_t *a, *b, *c, *d;
+  BoxCorners(const uint32_t* centre, const Box& box)
+      : a(centre + box.a), b(centre + box.b), c(centre + box.c), d(centre + box.d) {}
+  int32_t sum(std::ptrdiff_t o) const { return static_cast<int32_t>(d[o] - b[o] - c[o] + a[o]); }
+};
+
+// The row functions below fix the sampling step at compile time (kStep > 0): with kStep == 1
+// the loads are contiguous and the compiler vectorises them. Dxx, Dyy and Dxy are computed in
+// separate passes so that each loop's pointers fit in registers.
+
+/// out[i] = scale * (sum(all) - 3 sum(mid)): Dxx or Dyy along one grid row.
 template <int kStep>
-void determinantRow(const uint32_t* centre, int n, int runtimeStep, const HessianKernel& k,
-                    float* __restrict out) {
+void secondDerivativeRow(const uint32_t* centre, int n, std::ptrdiff_t runtimeStep, const Box& all,
+                         const Box& mid, float scale, float* __restrict out) {
   const std::ptrdiff_t step = kStep > 0 ? kStep : runtimeStep;
-  const HessianKernel kernel = k;  // local copy: lets the compiler keep offsets in registers
+  const BoxCorners outer(centre, all), inner(centre, mid);
   for (int i = 0; i < n; ++i) {
-    const Hessian h = hessianAt(centre + i * step, kernel);
-    out[i] = h.dxx * h.dyy - kDxyWeightSq * h.dxy * h.dxy;
+    const std::ptrdiff_t o = i * step;
+    out[i] = static_cast<float>(outer.sum(o) - 3 * inner.sum(o)) * scale;
+  }
+}
+
+/// det[i] = dxx[i] * det[i] - (0.9 Dxy)^2, where det holds Dyy on entry.
+template <int kStep>
+void determinantRow(const uint32_t* centre, int n, std::ptrdiff_t runtimeStep,
+                    const HessianKernel& k, float* __restrict dxx, float* __restrict det) {
+  const std::ptrdiff_t step = kStep > 0 ? kStep : runtimeStep;
+  secondDerivativeRow<kStep>(centre, n, step, k.yyAll, k.yyMid, k.invLobeArea, det);
+  secondDerivativeRow<kStep>(centre, n, step, k.xxAll, k.xxMid, k.invLobeArea, dxx);
+  const BoxCorners tl(centre, k.xyTL), tr(centre, k.xyTR), bl(centre, k.xyBL), br(centre, k.xyBR);
+  const float scale = k.invSquareArea;
+  for (int i = 0; i < n; ++i) {
+    const std::ptrdiff_t o = i * step;
+    const float dxy = static_cast<float>(tl.sum(o) + br.sum(o) - tr.sum(o) - bl.sum(o)) * scale;
+    det[i] = dxx[i] * det[i] - kDxyWeightSq * dxy * dxy;
   }
 }
 
@@ -89,40 +117,65 @@ struct Layer {
   int sampleStep = 1;  // grid spacing in pixels
   // Grid cells (inclusive) where the whole filter fits in the image; empty if x0 > x1.
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
-  cv::Mat det;  // CV_32F, grid rows x grid cols, 0 where the filter does not fit
+  cv::Mat det;  // CV_32F, grid rows x grid cols; allocated if not empty
 
   bool empty() const { return x0 > x1 || y0 > y1; }
 };
 
-Layer makeLayer(int octave, int layerIndex, int rows, int cols) {
+Layer makeLayer(int octave, int layerIndex, int rows, int cols, cv::Mat& buffer) {
   Layer layer;
   layer.octave = octave;
   layer.sampleStep = 1 << octave;
   layer.size = 3 + (kFirstSizeStep << octave) * (layerIndex + 1);
   const int half = layer.size / 2;
   const int step = layer.sampleStep;
-  const int gridCols = (cols + step - 1) / step;
-  const int gridRows = (rows + step - 1) / step;
   // Pixel g * step is a valid centre if half <= g * step <= dim - 1 - half.
   layer.x0 = (half + step - 1) / step;
   layer.y0 = (half + step - 1) / step;
   layer.x1 = cols - 1 - half >= 0 ? (cols - 1 - half) / step : -1;
   layer.y1 = rows - 1 - half >= 0 ? (rows - 1 - half) / step : -1;
-  layer.det = cv::Mat::zeros(gridRows, gridCols, CV_32F);
+  // Left uninitialised outside the valid range: nothing reads there (see findMaxima).
+  if (!layer.empty()) {
+    buffer.create((rows + step - 1) / step, (cols + step - 1) / step, CV_32F);
+    layer.det = buffer;
+  }
   return layer;
+}
+
+/// Layer i of octave o has the size of layer 2i + 1 of octave o - 1 (or -1 if none), whose map
+/// then already holds every other sample of it.
+int finerTwin(int layerIndex, int nOctaveLayers) {
+  const int twin = 2 * layerIndex + 1;
+  return twin <= nOctaveLayers + 1 ? twin : -1;
+}
+
+/// dst = every other row and column of src, over dst's valid range.
+void subsample(const Layer& src, Layer& dst) {
+  for (int gy = dst.y0; gy <= dst.y1; ++gy) {
+    const float* in = src.det.ptr<float>(2 * gy);
+    float* out = dst.det.ptr<float>(gy);
+    for (int gx = dst.x0; gx <= dst.x1; ++gx) out[gx] = in[2 * gx];
+  }
 }
 
 void fillDeterminant(const IntegralImage& integral, Layer& layer, int gy0, int gy1) {
   const HessianKernel kernel(layer.size, integral.stride());
   const int step = layer.sampleStep;
   const int n = layer.x1 - layer.x0 + 1;
+  std::vector<float> dxx(n);
   for (int gy = gy0; gy < gy1; ++gy) {
     const uint32_t* centre = integral.row(gy * step) + layer.x0 * step;
     float* out = layer.det.ptr<float>(gy) + layer.x0;
     switch (step) {
-      case 1: determinantRow<1>(centre, n, step, kernel, out); break;
-      case 2: determinantRow<2>(centre, n, step, kernel, out); break;
-      default: determinantRow<0>(centre, n, step, kernel, out); break;
+      case 1:
+        determinantRow<1>(centre, n, step, kernel, dxx.data(), out);
+        break;
+      case 2:
+        determinantRow<2>(centre, n, step, kernel, dxx.data(), out);
+        break;
+      default:
+        determinantRow<0>(centre, n, step, kernel, dxx.data(), out);
+        break;
     }
   }
 }
@@ -133,15 +186,12 @@ struct RowBand {
   int begin, end;
 };
 
-std::vector<RowBand> splitRows(const std::vector<int>& layerIds, const std::vector<Layer>& layers,
-                               int rowMarginCells) {
+std::vector<RowBand> splitRows(const std::vector<int>& layerIds, const std::vector<Layer>& layers) {
   std::vector<RowBand> bands;
   for (int id : layerIds) {
     const Layer& layer = layers[id];
-    const int begin = layer.y0 + rowMarginCells;
-    const int end = layer.y1 - rowMarginCells + 1;
-    for (int y = begin; y < end; y += kRowsPerTask) {
-      bands.push_back({id, y, std::min(y + kRowsPerTask, end)});
+    for (int y = layer.y0; y <= layer.y1; y += kRowsPerTask) {
+      bands.push_back({id, y, std::min(y + kRowsPerTask, layer.y1 + 1)});
     }
   }
   return bands;
@@ -161,9 +211,9 @@ bool isStrictMaximum(const Cube& n) {
 
 /// Fits a 3D quadratic to the neighbourhood (Brown & Lowe) and returns the offset of its
 /// extremum in grid cells / layers, and the interpolated value. False if the fit is degenerate
-/// or the extremum lies outside the central cell (|offset| > 0.5): the true maximum then
-/// belongs to a neighbour, which is either detected itself or was weaker.
-bool interpolateMaximum(const Cube& n, cv::Vec3d& offset, double& value) {
+/// or the extremum lies farther than maxOffset from the centre in any axis (beyond 0.5 it is
+/// nearer a neighbouring sample: the fit is poor).
+bool interpolateMaximum(const Cube& n, double maxOffset, cv::Vec3d& offset, double& value) {
   const double v = n[1][1][1];
   const cv::Vec3d g((n[1][1][2] - n[1][1][0]) * 0.5, (n[1][2][1] - n[1][0][1]) * 0.5,
                     (n[2][1][1] - n[0][1][1]) * 0.5);
@@ -176,7 +226,8 @@ bool interpolateMaximum(const Cube& n, cv::Vec3d& offset, double& value) {
   const cv::Matx33d h(dxx, dxy, dxs, dxy, dyy, dys, dxs, dys, dss);
   if (std::abs(cv::determinant(h)) < 1e-12) return false;
   offset = h.solve(-g, cv::DECOMP_LU);
-  if (!(std::abs(offset[0]) <= 0.5 && std::abs(offset[1]) <= 0.5 && std::abs(offset[2]) <= 0.5))
+  if (!(std::abs(offset[0]) <= maxOffset && std::abs(offset[1]) <= maxOffset &&
+        std::abs(offset[2]) <= maxOffset))
     return false;
   value = v + 0.5 * g.dot(offset);
   return true;
@@ -187,7 +238,34 @@ struct FindContext {
   const std::vector<Layer>* layers;
   const cv::Mat* mask;
   float threshold;
+  double maxOffset;
 };
+
+/// Full test of a pre-selected sample (gx, gy) of layer mid: strict maximum of its 3x3x3
+/// neighbourhood (rows[scale][dy] are the rows gy - 1..gy + 1 of the three layers), interpolated
+/// and inside the mask. Appends the keypoint to out if it passes.
+void testCandidate(const FindContext& ctx, const float* const (&rows)[3][3], int gx, int gy,
+                   const HessianKernel& kernel, const Layer& mid, const Layer& above,
+                   std::vector<cv::KeyPoint>& out) {
+  Cube cube;
+  for (int s = 0; s < 3; ++s)
+    for (int dy = 0; dy < 3; ++dy)
+      for (int dx = 0; dx < 3; ++dx) cube[s][dy][dx] = rows[s][dy][gx + dx - 1];
+  if (!isStrictMaximum(cube)) return;
+  cv::Vec3d offset;
+  double value = 0;
+  if (!interpolateMaximum(cube, ctx.maxOffset, offset, value)) return;
+  const int step = mid.sampleStep;
+  const float x = static_cast<float>((gx + offset[0]) * step);
+  const float y = static_cast<float>((gy + offset[1]) * step);
+  if (!ctx.mask->empty() && ctx.mask->at<uint8_t>(cvRound(y), cvRound(x)) == 0) return;
+  const float sizeStep = static_cast<float>(above.size - mid.size);
+  const float size = mid.size + static_cast<float>(offset[2]) * sizeStep;
+  const Hessian h = hessianAt(ctx.integral->row(gy * step) + gx * step, kernel);
+  const float trace = h.dxx + h.dyy;
+  const int laplacianSign = (trace > 0) - (trace < 0);
+  out.emplace_back(x, y, size, -1.f, static_cast<float>(value), mid.octave, laplacianSign);
+}
 
 /// Scans rows [band.begin, band.end) of middle layer band.layer (with layers band.layer -+ 1
 /// below/above it in the same octave) and appends the interpolated maxima to out.
@@ -197,38 +275,31 @@ void findMaxima(const FindContext& ctx, const RowBand& band, std::vector<cv::Key
   const Layer& mid = layers[band.layer];
   const Layer& above = layers[band.layer + 1];
   const HessianKernel kernel(mid.size, ctx.integral->stride());
-  const int step = mid.sampleStep;
   // The largest filter fits in the smallest range; one more cell for the 3x3 neighbourhood.
   const int x0 = above.x0 + 1;
   const int x1 = above.x1 - 1;
+  const int width = std::max(0, x1 - x0 + 1);
+  // Padded to whole 8-byte words so the scan below can read them at once.
+  std::vector<uint8_t> passes((width + 7) / 8 * 8, 0);
+  const float threshold = ctx.threshold;
   for (int gy = band.begin; gy < band.end; ++gy) {
     const float* rows[3][3];
     const Layer* triple[3] = {&below, &mid, &above};
     for (int s = 0; s < 3; ++s)
       for (int dy = 0; dy < 3; ++dy) rows[s][dy] = triple[s]->det.ptr<float>(gy + dy - 1);
-    const float* centreRow = rows[1][1];
-    for (int gx = x0; gx <= x1; ++gx) {
-      const float v = centreRow[gx];
-      if (!(v > ctx.threshold)) continue;
-      // Cheap early rejection against the two horizontal neighbours before building the cube.
-      if (!(v > centreRow[gx - 1] && v > centreRow[gx + 1])) continue;
-      Cube cube;
-      for (int s = 0; s < 3; ++s)
-        for (int dy = 0; dy < 3; ++dy)
-          for (int dx = 0; dx < 3; ++dx) cube[s][dy][dx] = rows[s][dy][gx + dx - 1];
-      if (!isStrictMaximum(cube)) continue;
-      cv::Vec3d offset;
-      double value = 0;
-      if (!interpolateMaximum(cube, offset, value)) continue;
-      const float x = static_cast<float>((gx + offset[0]) * step);
-      const float y = static_cast<float>((gy + offset[1]) * step);
-      if (!ctx.mask->empty() && ctx.mask->at<uint8_t>(cvRound(y), cvRound(x)) == 0) continue;
-      const float sizeStep = static_cast<float>(above.size - mid.size);
-      const float size = mid.size + static_cast<float>(offset[2]) * sizeStep;
-      const Hessian h = hessianAt(ctx.integral->row(gy * step) + gx * step, kernel);
-      const float trace = h.dxx + h.dyy;
-      const int laplacianSign = (trace > 0) - (trace < 0);
-      out.emplace_back(x, y, size, -1.f, static_cast<float>(value), mid.octave, laplacianSign);
+    // Pre-selection (above threshold and both horizontal neighbours) without branches, so the
+    // compiler vectorises it; about 1% of the samples pass on real images.
+    const float* c = rows[1][1] + x0;
+    for (int i = 0; i < width; ++i) {
+      passes[i] = (c[i] > threshold) & (c[i] > c[i - 1]) & (c[i] > c[i + 1]);
+    }
+    for (int word = 0; word < width; word += 8) {
+      uint64_t bits;
+      std::memcpy(&bits, &passes[word], sizeof bits);
+      if (bits == 0) continue;
+      for (int i = word; i < word + 8 && i < width; ++i) {
+        if (passes[i]) testCandidate(ctx, rows, x0 + i, gy, kernel, mid, above, out);
+      }
     }
   }
 }
@@ -244,28 +315,42 @@ bool strongerFirst(const cv::KeyPoint& a, const cv::KeyPoint& b) {
 }  // namespace
 
 std::vector<cv::KeyPoint> detectFastHessian(const IntegralImage& integral,
-                                            const HessianParams& params, const cv::Mat& mask) {
+                                            const HessianParams& params, const cv::Mat& mask,
+                                            std::vector<cv::Mat>& buffers) {
   const int layersPerOctave = params.nOctaveLayers + 2;
+  if (buffers.size() < static_cast<size_t>(params.nOctaves * layersPerOctave)) {
+    buffers.resize(params.nOctaves * layersPerOctave);
+  }
   std::vector<Layer> layers;
-  std::vector<int> allLayers, middleLayers;
+  std::vector<int> computed, middleLayers;
+  std::vector<std::pair<int, int>> copies;  // (source, destination), in octave order
   for (int o = 0; o < params.nOctaves; ++o) {
     const int first = static_cast<int>(layers.size());
     for (int i = 0; i < layersPerOctave; ++i) {
-      layers.push_back(makeLayer(o, i, integral.rows(), integral.cols()));
-      if (!layers.back().empty()) allLayers.push_back(first + i);
+      const int id = first + i;
+      layers.push_back(makeLayer(o, i, integral.rows(), integral.cols(), buffers[id]));
+      if (layers.back().empty()) continue;
+      const int twin = o > 0 ? finerTwin(i, params.nOctaveLayers) : -1;
+      if (twin >= 0) {
+        copies.emplace_back(first - layersPerOctave + twin, id);
+      } else {
+        computed.push_back(id);
+      }
     }
     for (int i = 1; i <= params.nOctaveLayers; ++i) {
       if (!layers[first + i + 1].empty()) middleLayers.push_back(first + i);
     }
   }
 
-  // 1. Determinant maps, all layers at once, in bands of rows.
-  const std::vector<RowBand> detBands = splitRows(allLayers, layers, 0);
+  // 1. Determinant maps: the new filter sizes at once, in bands of rows, then the sizes shared
+  // with the previous octave by subsampling its maps (about a third less filtering).
+  const std::vector<RowBand> detBands = splitRows(computed, layers);
   cv::parallel_for_(cv::Range(0, static_cast<int>(detBands.size())), [&](const cv::Range& r) {
     for (int i = r.start; i < r.end; ++i) {
       fillDeterminant(integral, layers[detBands[i].layer], detBands[i].begin, detBands[i].end);
     }
   });
+  for (const auto& [src, dst] : copies) subsample(layers[src], layers[dst]);
 
   // 2. Maxima in the middle layers. Candidate rows are limited by the layer above (largest
   // filter) and by one cell for the neighbourhood; each band writes its own list.
@@ -277,7 +362,7 @@ std::vector<cv::KeyPoint> detectFastHessian(const IntegralImage& integral,
     }
   }
   std::vector<std::vector<cv::KeyPoint>> found(findBands.size());
-  const FindContext ctx{&integral, &layers, &mask, params.threshold};
+  const FindContext ctx{&integral, &layers, &mask, params.threshold, params.maxOffset};
   cv::parallel_for_(cv::Range(0, static_cast<int>(findBands.size())), [&](const cv::Range& r) {
     for (int i = r.start; i < r.end; ++i) findMaxima(ctx, findBands[i], found[i]);
   });

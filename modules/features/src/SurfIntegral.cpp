@@ -4,9 +4,11 @@ namespace slamdunk::surf {
 
 // Written by hand rather than with cv::integral so that sums wrap modulo 2^32 with defined
 // behaviour (unsigned arithmetic) instead of overflowing a signed int on very large images.
-IntegralImage::IntegralImage(const cv::Mat& gray8) : rows_(gray8.rows), cols_(gray8.cols) {
+IntegralImage::IntegralImage(const cv::Mat& gray8, cv::Mat& storage)
+    : rows_(gray8.rows), cols_(gray8.cols) {
   CV_Assert(gray8.type() == CV_8UC1);
-  table_.create(rows_ + 1, cols_ + 1, CV_32S);
+  storage.create(rows_ + 1, cols_ + 1, CV_32S);
+  table_ = storage;
   data_ = table_.ptr<uint32_t>(0);
   stride_ = static_cast<std::ptrdiff_t>(table_.step1());
   uint32_t* first = table_.ptr<uint32_t>(0);

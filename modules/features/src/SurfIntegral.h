@@ -13,7 +13,8 @@ namespace slamdunk::surf {
 /// pixels is exact after the wrapping subtractions, whatever the image size.
 class IntegralImage {
  public:
-  explicit IntegralImage(const cv::Mat& gray8);
+  /// storage: where the table is kept; reusing it across calls avoids faulting in fresh pages.
+  IntegralImage(const cv::Mat& gray8, cv::Mat& storage);
 
   int rows() const { return rows_; }  ///< image rows (the table has one more)
   int cols() const { return cols_; }  ///< image columns (the table has one more)

@@ -78,7 +78,8 @@ Trajectory SyntheticTrajectory::generate(const std::string& name, int frames, do
   Trajectory traj(size_t(n), StampedPose{});
   for (int i = 0; i < n; ++i) {
     const double s = double(i) / (n - 1);
-    traj[i].timestamp = startTime + i / kFrameRate;
+    // Whole microseconds: the TUM file's 6 decimals then hold the stamp exactly.
+    traj[i].timestamp = startTime + std::round(i * 1e6 / kFrameRate) * 1e-6;
     traj[i].pose = name == "sweep" ? sweepPose(s) : loopPose(s);
   }
   return traj;

@@ -20,11 +20,14 @@ class RgbdFrame {
   static RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs);
 
   RgbdFrame() = default;
-  RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres, CameraIntrinsics intrinsics);
+  RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres, CameraIntrinsics intrinsics,
+            cv::Mat colour = {});
 
   double timestamp() const { return timestamp_; }
   /// 8-bit single channel, colour camera resolution.
   const cv::Mat& grey() const { return grey_; }
+  /// BGR colour image when the source had one (shares the observation's pixels), else empty.
+  const cv::Mat& colour() const { return colour_; }
   /// CV_32F metres, registered to the colour image; 0 marks an invalid pixel.
   const cv::Mat& depth() const { return depth_; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
@@ -40,6 +43,7 @@ class RgbdFrame {
  private:
   double timestamp_ = 0;
   cv::Mat grey_;
+  cv::Mat colour_;
   cv::Mat depth_;
   CameraIntrinsics intrinsics_;
 };

@@ -24,6 +24,11 @@ struct SurfParams {
   bool extended = false;
   /// true: skip orientation assignment (faster; fine when the camera does not roll much).
   bool upright = false;
+  /// Maxima are interpolated by fitting a quadratic in x, y and scale (Brown & Lowe); a maximum
+  /// whose fitted offset exceeds this (in samples) in any axis is dropped. 0.5 (the paper's
+  /// choice) keeps only well-centred maxima; 1.0 (OpenCV's) keeps ~20% more keypoints and, at
+  /// equal keypoint count, was ~10 points more repeatable under a 30 degree rotation.
+  double maxInterpolationOffset = 0.5;
   /// If > 0, keep only the strongest maxKeypoints detections before computing orientations and
   /// descriptors (saves time; the same as truncating the sorted output).
   int maxKeypoints = 0;

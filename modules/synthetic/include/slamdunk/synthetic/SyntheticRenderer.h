@@ -34,6 +34,8 @@ class SyntheticRenderer {
   SyntheticRenderer& operator=(const SyntheticRenderer&) = delete;
 
   /// Renders `scene` seen by a camera whose optical frame has world pose T_w_opt.
+  /// A scene keeps the OpenGL objects (textures, buffers) of the context that first drew it:
+  /// render a given scene with one renderer only, and from the thread that created the renderer.
   /// bgr: CV_8UC3 colour; depth: CV_32F z-depth in metres along the optical axis (not the
   /// distance along the ray), 0 where no surface lies between the clip planes.
   void render(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt, cv::Mat& bgr, cv::Mat& depth);

@@ -1,0 +1,96 @@
+#include "RunSummary.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+
+namespace slamdunk {
+
+long peakResidentKiB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss;
+}
+
+namespace {
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
+double maxOf(const std::vector<double>& v) {
+  return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
+}
+template <class F>
+std::vector<double> column(const std::vector<StageTimings>& t, F f) {
+  std::vector<double> out;
+  for (const auto& s : t) out.push_back(f(s));
+  return out;
+}
+}  // namespace
+
+void printRunSummary(const RunFigures& f, bool json) {
+  const auto& s = f.stats;
+  const auto feat = column(s.stageTimings, [](auto& t) { return t.features; });
+  const auto pool = column(s.stageTimings, [](auto& t) { return t.pool; });
+  const auto match = column(s.stageTimings, [](auto& t) { return t.matching; });
+  const auto ransac = column(s.stageTimings, [](auto& t) { return t.ransac; });
+  const auto total = column(s.stageTimings, [](auto& t) { return t.total; });
+  const double fps = f.wallSeconds > 0 ? s.frames / f.wallSeconds : 0;
+  if (json) {
+    std::printf("{\n  \"frames\": %zu, \"tracked\": %zu, \"lost\": %zu, \"keyframes\": %zu,\n",
+                s.frames, s.tracked, s.lost, s.keyframes);
+    std::printf("  \"edges\": %zu, \"optimizations\": %zu, \"loop_closures\": %zu,\n", f.edges,
+                s.optimizations, s.loopClosures);
+    std::printf("  \"ms_features_median\": %.3f, \"ms_pool_median\": %.3f, "
+                "\"ms_matching_median\": %.3f, \"ms_ransac_median\": %.3f,\n",
+                median(feat), median(pool), median(match), median(ransac));
+    std::printf("  \"ms_tracking_median\": %.3f, \"ms_tracking_mean\": %.3f, "
+                "\"ms_decode_median\": %.3f,\n",
+                median(total), mean(total), median(f.decodeMs));
+    std::printf("  \"ms_optimization_median\": %.3f, \"ms_optimization_max\": %.3f,\n",
+                median(s.optimizationMs), maxOf(s.optimizationMs));
+    std::printf("  \"optimization_max_translation_m\": %.6f, \"optimization_max_rotation_deg\": "
+                "%.4f,\n",
+                s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+    std::printf("  \"fps\": %.2f, \"wall_s\": %.3f, \"peak_rss_mib\": %.1f", fps, f.wallSeconds,
+                f.peakRssKiB / 1024.0);
+    if (f.ate)
+      std::printf(",\n  \"ate_rmse_m\": %.6f, \"ate_mean_m\": %.6f, \"ate_median_m\": %.6f, "
+                  "\"ate_max_m\": %.6f, \"ate_pairs\": %zu",
+                  f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+    std::printf("\n}\n");
+    return;
+  }
+  std::printf("slamdunk-rawlog summary\n");
+  std::printf("  frames:          %zu (tracked %zu, lost %zu)\n", s.frames, s.tracked, s.lost);
+  for (const auto& why : s.lostReasons) std::printf("    lost because:  %s\n", why.c_str());
+  std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
+  std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
+  std::printf("  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "
+              "%.3f deg\n",
+              s.optimizations, median(s.optimizationMs), maxOf(s.optimizationMs),
+              s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+  std::printf("  ms per frame     median   mean\n");
+  std::printf("    decode         %6.2f %6.2f\n", median(f.decodeMs), mean(f.decodeMs));
+  std::printf("    features       %6.2f %6.2f\n", median(feat), mean(feat));
+  std::printf("    pool update    %6.2f %6.2f\n", median(pool), mean(pool));
+  std::printf("    matching       %6.2f %6.2f\n", median(match), mean(match));
+  std::printf("    RANSAC         %6.2f %6.2f\n", median(ransac), mean(ransac));
+  std::printf("    tracking total %6.2f %6.2f\n", median(total), mean(total));
+  std::printf("  speed:           %.1f frames/s over %.2f s (whole app)\n", fps, f.wallSeconds);
+  std::printf("  peak memory:     %.1f MiB\n", f.peakRssKiB / 1024.0);
+  if (f.ate)
+    std::printf("  ATE:             rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs, %zu "
+                "estimated poses without ground truth)\n",
+                f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs,
+                f.ate->unmatched);
+}
+
+}  // namespace slamdunk

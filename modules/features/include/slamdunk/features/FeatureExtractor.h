@@ -1,0 +1,55 @@
+#pragma once
+// Detects keypoints on the grey image, keeps those with valid depth (the strongest, up to a
+// cap), describes them and back-projects them (undistorted keypoint, depth at its pixel).
+
+#include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/features/FeatureSet.h>
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <opencv2/features2d.hpp>
+
+#include <memory>
+#include <string>
+
+namespace slamdunk {
+
+enum class FeatureType { SURF64, SURF128, SIFT, ORB };
+
+/// Parses "SURF64", "SURF128", "SIFT", "ORB" (case-insensitive); throws naming the value.
+FeatureType featureTypeFromString(const std::string& name);
+std::string toString(FeatureType type);
+
+struct FeatureOptions : public mrpt::config::CLoadableOptions {
+  FeatureType type = FeatureType::SURF64;
+  int maxFeatures = 500;               ///< cap on features with valid depth per frame
+  double surfHessianThreshold = 500;   ///< SURF detector threshold
+  bool surfUpright = true;             ///< skip SURF orientation (hand-held cameras stay level)
+  int surfOctaves = 4;
+  int orbDetectFeatures = 1000;        ///< ORB detects this many before the depth filter
+  int orbFastThreshold = 20;
+  int siftDetectFeatures = 0;          ///< 0 = all
+  double minDepth = 0.2;               ///< metres: nearer points are sensor noise
+  double maxDepth = 6.0;               ///< metres: farther Kinect depth is too noisy to use
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
+};
+
+class FeatureExtractor {
+ public:
+  explicit FeatureExtractor(const FeatureOptions& options);
+  ~FeatureExtractor();
+
+  FeatureSet extract(const RgbdFrame& frame) const;
+  const FeatureOptions& options() const { return options_; }
+  /// cv::NORM_L2 or cv::NORM_HAMMING
+  int descriptorNorm() const;
+
+ private:
+  FeatureOptions options_;
+  cv::Ptr<cv::Feature2D> detector_;
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,149 @@
+#include <slamdunk/core/IniOptions.h>
+#include <slamdunk/features/FeatureExtractor.h>
+#ifdef SLAMDUNK_HAVE_SURF
+#include <slamdunk/features/Surf.h>
+#endif
+
+#include <opencv2/features2d.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace slamdunk {
+
+FeatureType featureTypeFromString(const std::string& name) {
+  std::string n = name;
+  std::transform(n.begin(), n.end(), n.begin(), ::toupper);
+  if (n == "SURF64" || n == "SURF-64" || n == "SURF") return FeatureType::SURF64;
+  if (n == "SURF128" || n == "SURF-128") return FeatureType::SURF128;
+  if (n == "SIFT") return FeatureType::SIFT;
+  if (n == "ORB") return FeatureType::ORB;
+  throw std::invalid_argument("unknown feature type '" + name +
+                              "' (choose SURF64, SURF128, SIFT or ORB)");
+}
+
+std::string toString(FeatureType type) {
+  switch (type) {
+    case FeatureType::SURF64:
+      return "SURF64";
+    case FeatureType::SURF128:
+      return "SURF128";
+    case FeatureType::SIFT:
+      return "SIFT";
+    case FeatureType::ORB:
+      return "ORB";
+  }
+  return "?";
+}
+
+void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                        const std::string& section) {
+  IniSectionReader r(cfg, section);
+  type = featureTypeFromString(r.readString("type", toString(type)));
+  maxFeatures = r.readInt("max_features", maxFeatures);
+  surfHessianThreshold = r.readDouble("surf_hessian_threshold", surfHessianThreshold);
+  surfUpright = r.readBool("surf_upright", surfUpright);
+  surfOctaves = r.readInt("surf_octaves", surfOctaves);
+  orbDetectFeatures = r.readInt("orb_detect_features", orbDetectFeatures);
+  orbFastThreshold = r.readInt("orb_fast_threshold", orbFastThreshold);
+  siftDetectFeatures = r.readInt("sift_detect_features", siftDetectFeatures);
+  minDepth = r.readDouble("min_depth", minDepth);
+  maxDepth = r.readDouble("max_depth", maxDepth);
+  r.rejectUnknownKeys();
+  if (maxFeatures < 3) throw std::invalid_argument("[" + section + "] max_features must be >= 3");
+  if (!(minDepth >= 0 && maxDepth > minDepth))
+    throw std::invalid_argument("[" + section + "] needs 0 <= min_depth < max_depth");
+}
+
+void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                      const std::string& section) const {
+  cfg.write(section, "type", toString(type));
+  cfg.write(section, "max_features", maxFeatures);
+  cfg.write(section, "surf_hessian_threshold", surfHessianThreshold);
+  cfg.write(section, "surf_upright", surfUpright);
+  cfg.write(section, "surf_octaves", surfOctaves);
+  cfg.write(section, "orb_detect_features", orbDetectFeatures);
+  cfg.write(section, "orb_fast_threshold", orbFastThreshold);
+  cfg.write(section, "sift_detect_features", siftDetectFeatures);
+  cfg.write(section, "min_depth", minDepth);
+  cfg.write(section, "max_depth", maxDepth);
+}
+
+namespace {
+cv::Ptr<cv::Feature2D> makeDetector(const FeatureOptions& o) {
+  switch (o.type) {
+    case FeatureType::SURF64:
+    case FeatureType::SURF128: {
+#ifdef SLAMDUNK_HAVE_SURF
+      Surf::Params p;
+      p.hessianThreshold = o.surfHessianThreshold;
+      p.nOctaves = o.surfOctaves;
+      p.extended = o.type == FeatureType::SURF128;
+      p.upright = o.surfUpright;
+      return Surf::create(p);
+#else
+      throw std::invalid_argument(
+          "this build has no SURF (configured with SLAMDUNK_WITH_SURF=OFF)");
+#endif
+    }
+    case FeatureType::SIFT:
+      return cv::SIFT::create(o.siftDetectFeatures);
+    case FeatureType::ORB:
+      return cv::ORB::create(o.orbDetectFeatures, 1.2f, 8, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31,
+                             o.orbFastThreshold);
+  }
+  throw std::logic_error("unhandled feature type");
+}
+}  // namespace
+
+FeatureExtractor::FeatureExtractor(const FeatureOptions& options)
+    : options_(options), detector_(makeDetector(options)) {}
+
+FeatureExtractor::~FeatureExtractor() = default;
+
+int FeatureExtractor::descriptorNorm() const {
+  return options_.type == FeatureType::ORB ? cv::NORM_HAMMING : cv::NORM_L2;
+}
+
+FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
+  FeatureSet out;
+  if (frame.grey().empty()) return out;
+  std::vector<cv::KeyPoint> detected;
+  detector_->detect(frame.grey(), detected);
+
+  // Keep the strongest keypoints that have usable depth; sort is stable on index so equal
+  // responses keep detector order and runs stay deterministic.
+  std::vector<size_t> order(detected.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return detected[a].response > detected[b].response; });
+  std::vector<cv::KeyPoint> kept;
+  std::vector<Eigen::Vector3d> points;
+  for (size_t idx : order) {
+    if (static_cast<int>(kept.size()) >= options_.maxFeatures) break;
+    const cv::KeyPoint& kp = detected[idx];
+    const auto p = frame.backProject(kp.pt.x, kp.pt.y);
+    if (!p || p->z() < options_.minDepth || p->z() > options_.maxDepth) continue;
+    kept.push_back(kp);
+    points.push_back(*p);
+  }
+  if (kept.empty()) return out;
+
+  const size_t before = kept.size();
+  cv::Mat descriptors;
+  detector_->compute(frame.grey(), kept, descriptors);
+  if (kept.size() != before) {
+    // Some descriptors drop keypoints near the border: re-associate the 3D points.
+    std::vector<Eigen::Vector3d> remaining;
+    remaining.reserve(kept.size());
+    for (const auto& kp : kept) remaining.push_back(*frame.backProject(kp.pt.x, kp.pt.y));
+    points.swap(remaining);
+  }
+  out.keypoints = std::move(kept);
+  out.descriptors = descriptors;
+  out.points = std::move(points);
+  return out;
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,67 @@
+#pragma once
+// The map: keyframe poses (vertices) and the feature matches between keyframes (edges).
+// Thread-safe: the tracker reads poses while the local optimizer writes them.
+
+#include <slamdunk/graph/Keyframe.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <mutex>
+#include <shared_mutex>
+#include <vector>
+
+namespace slamdunk {
+
+/// One feature match between two keyframes, as 3D points in each keyframe's own frame.
+struct PointMatch {
+  Eigen::Vector3d pointI;  ///< in keyframe i's optical frame
+  Eigen::Vector3d pointJ;  ///< in keyframe j's optical frame
+  double weight = 1.0;     ///< 1 - θ' (paper Sec. 4.3)
+};
+
+/// Edge between keyframes i < j carrying their matches (paper Eq. 4-5).
+struct KeyframeEdge {
+  KeyframeId i = 0, j = 0;
+  std::vector<PointMatch> matches;
+};
+
+class KeyframeGraph {
+ public:
+  /// Adds a keyframe with its world pose (optical frame). Ids must be new.
+  void addKeyframe(KeyframePtr keyframe, const Pose& T_world_keyframe);
+  /// Adds matches between two keyframes; appends if the edge exists. Points are stored with
+  /// the smaller id as i.
+  void addMatches(KeyframeId a, KeyframeId b, const std::vector<PointMatch>& matchesAB);
+
+  size_t keyframeCount() const;
+  size_t edgeCount() const;
+  bool contains(KeyframeId id) const;
+  KeyframePtr keyframe(KeyframeId id) const;
+  Pose pose(KeyframeId id) const;
+  /// Every keyframe id in increasing order.
+  std::vector<KeyframeId> ids() const;
+  std::map<KeyframeId, Pose> poses() const;
+  /// Replaces the poses of the given keyframes at once (one lock: readers never see a mix).
+  void setPoses(const std::map<KeyframeId, Pose>& poses);
+
+  std::vector<KeyframeId> neighbours(KeyframeId id) const;
+  /// Breadth-first rings from root: ring 0 = {root}; keyframes up to maxRing hops, id -> ring.
+  std::map<KeyframeId, int> rings(KeyframeId root, int maxRing) const;
+  /// Hop count between two keyframes, or -1 if more than maxHops apart (or unconnected).
+  int hopDistance(KeyframeId a, KeyframeId b, int maxHops) const;
+  /// Copies of the edges whose both endpoints are in the set.
+  std::vector<KeyframeEdge> edgesWithin(const std::map<KeyframeId, int>& vertices) const;
+  std::vector<KeyframeEdge> allEdges() const;
+
+ private:
+  using EdgeKey = std::pair<KeyframeId, KeyframeId>;
+  std::map<KeyframeId, int> ringsLocked(KeyframeId root, int maxRing) const;
+
+  mutable std::shared_mutex mutex_;
+  std::map<KeyframeId, KeyframePtr> keyframes_;
+  std::map<KeyframeId, Pose> poses_;
+  std::map<EdgeKey, KeyframeEdge> edges_;
+  std::map<KeyframeId, std::vector<KeyframeId>> adjacency_;
+};
+
+}  // namespace slamdunk

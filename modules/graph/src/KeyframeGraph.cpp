@@ -1,0 +1,133 @@
+#include <slamdunk/graph/KeyframeGraph.h>
+
+#include <algorithm>
+#include <deque>
+#include <stdexcept>
+
+namespace slamdunk {
+
+void KeyframeGraph::addKeyframe(KeyframePtr keyframe, const Pose& T_world_keyframe) {
+  std::unique_lock lock(mutex_);
+  const KeyframeId id = keyframe->id;
+  if (keyframes_.count(id)) throw std::logic_error("keyframe id already in the graph");
+  keyframes_[id] = std::move(keyframe);
+  poses_[id] = T_world_keyframe;
+  adjacency_[id];
+}
+
+void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
+                               const std::vector<PointMatch>& matchesAB) {
+  if (a == b || matchesAB.empty()) return;
+  std::unique_lock lock(mutex_);
+  if (!keyframes_.count(a) || !keyframes_.count(b))
+    throw std::logic_error("edge between unknown keyframes");
+  const bool swap = a > b;
+  const EdgeKey key = swap ? EdgeKey{b, a} : EdgeKey{a, b};
+  auto [it, inserted] = edges_.try_emplace(key);
+  KeyframeEdge& e = it->second;
+  if (inserted) {
+    e.i = key.first;
+    e.j = key.second;
+    adjacency_[a].push_back(b);
+    adjacency_[b].push_back(a);
+  }
+  for (const PointMatch& m : matchesAB)
+    e.matches.push_back(swap ? PointMatch{m.pointJ, m.pointI, m.weight} : m);
+}
+
+size_t KeyframeGraph::keyframeCount() const {
+  std::shared_lock lock(mutex_);
+  return keyframes_.size();
+}
+
+size_t KeyframeGraph::edgeCount() const {
+  std::shared_lock lock(mutex_);
+  return edges_.size();
+}
+
+bool KeyframeGraph::contains(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  return keyframes_.count(id) > 0;
+}
+
+KeyframePtr KeyframeGraph::keyframe(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  return keyframes_.at(id);
+}
+
+Pose KeyframeGraph::pose(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  return poses_.at(id);
+}
+
+std::vector<KeyframeId> KeyframeGraph::ids() const {
+  std::shared_lock lock(mutex_);
+  std::vector<KeyframeId> out;
+  for (const auto& kv : keyframes_) out.push_back(kv.first);
+  return out;
+}
+
+std::map<KeyframeId, Pose> KeyframeGraph::poses() const {
+  std::shared_lock lock(mutex_);
+  return poses_;
+}
+
+void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses) {
+  std::unique_lock lock(mutex_);
+  for (const auto& [id, p] : poses) poses_.at(id) = p;
+}
+
+std::vector<KeyframeId> KeyframeGraph::neighbours(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  auto n = adjacency_.at(id);
+  std::sort(n.begin(), n.end());
+  return n;
+}
+
+std::map<KeyframeId, int> KeyframeGraph::ringsLocked(KeyframeId root, int maxRing) const {
+  std::map<KeyframeId, int> ring{{root, 0}};
+  std::deque<KeyframeId> queue{root};
+  while (!queue.empty()) {
+    const KeyframeId v = queue.front();
+    queue.pop_front();
+    const int r = ring[v];
+    if (r >= maxRing) continue;
+    auto next = adjacency_.at(v);
+    std::sort(next.begin(), next.end());  // deterministic visiting order
+    for (KeyframeId n : next)
+      if (ring.emplace(n, r + 1).second) queue.push_back(n);
+  }
+  return ring;
+}
+
+std::map<KeyframeId, int> KeyframeGraph::rings(KeyframeId root, int maxRing) const {
+  std::shared_lock lock(mutex_);
+  if (!keyframes_.count(root)) throw std::logic_error("rings(): unknown root keyframe");
+  return ringsLocked(root, maxRing);
+}
+
+int KeyframeGraph::hopDistance(KeyframeId a, KeyframeId b, int maxHops) const {
+  std::shared_lock lock(mutex_);
+  if (!keyframes_.count(a) || !keyframes_.count(b)) return -1;
+  const auto r = ringsLocked(a, maxHops);
+  const auto it = r.find(b);
+  return it == r.end() ? -1 : it->second;
+}
+
+std::vector<KeyframeEdge> KeyframeGraph::edgesWithin(
+    const std::map<KeyframeId, int>& vertices) const {
+  std::shared_lock lock(mutex_);
+  std::vector<KeyframeEdge> out;
+  for (const auto& [key, e] : edges_)
+    if (vertices.count(key.first) && vertices.count(key.second)) out.push_back(e);
+  return out;
+}
+
+std::vector<KeyframeEdge> KeyframeGraph::allEdges() const {
+  std::shared_lock lock(mutex_);
+  std::vector<KeyframeEdge> out;
+  for (const auto& kv : edges_) out.push_back(kv.second);
+  return out;
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,61 @@
+#pragma once
+// Relative bundle adjustment of keyframe poses (paper Sec. 4.3, Eq. 4-5): minimises
+// Σ w ‖p_i − T_i⁻¹ T_j p_j‖² over the point matches of the keyframes within R rings of a root.
+// Ceres is an implementation detail: this header does not include it.
+
+#include <slamdunk/graph/KeyframeGraph.h>
+#include <slamdunk/optimization/LocalOptimizationReport.h>
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace slamdunk {
+
+enum class RobustLoss { None, Huber, Cauchy };
+
+/// Parses "none", "huber", "cauchy" (case-insensitive); throws naming the value.
+RobustLoss robustLossFromString(const std::string& name);
+std::string toString(RobustLoss loss);
+
+struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
+  int rings = 3;  ///< R (paper Table 3): rings 0..R-1 are free, ring R is held fixed
+  /// Huber by default: tracker inliers are mostly within a few cm, so Huber leaves them in its
+  /// quadratic zone (same as the paper's cost) and only caps the pull of the odd wrong match.
+  /// "none" is the paper's plain weighted least squares.
+  RobustLoss robustLoss = RobustLoss::Huber;
+  double robustLossScale = 0.03;  ///< metres of ‖e‖ where the robust loss starts to bend
+  int maxIterations = 15;         ///< Levenberg-Marquardt cap: keeps the worst case bounded
+  double functionTolerance = 1e-6;
+  int numThreads = 1;       ///< 1 keeps results bit-reproducible
+  double minWeight = 0.0;   ///< matches with a smaller weight are dropped (weight 0 always is)
+  double maxSolverTimeMs = 0;  ///< 0 = no time cap (a cap makes results timing-dependent)
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
+  /// Throws std::invalid_argument naming the section when a value is out of range.
+  void validate(const std::string& section = "optimizer") const;
+};
+
+/// Stateless apart from its options; optimize() may run in its own thread while others read
+/// poses and add keyframes/edges: it snapshots the graph, solves without holding any lock and
+/// writes the free poses back with a single setPoses() call.
+class LocalOptimizer {
+ public:
+  explicit LocalOptimizer(const LocalOptimizerOptions& options = {});
+
+  /// Optimises the keyframes within rings 0..R-1 of root, holding ring R fixed (the root is
+  /// fixed instead when ring R is empty). Vertices beyond ring R are never read or written.
+  LocalOptimizationReport optimize(KeyframeGraph& graph, KeyframeId root) const;
+  /// Global pass over every edge; the smallest id of each connected component is held fixed.
+  LocalOptimizationReport optimizeAll(KeyframeGraph& graph) const;
+
+  const LocalOptimizerOptions& options() const { return options_; }
+
+ private:
+  LocalOptimizerOptions options_;
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,100 @@
+#include <slamdunk/optimization/LocalOptimizer.h>
+
+#include "LocalProblem.h"
+#include "PoseProblem.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace slamdunk {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// Solves a prepared problem on its own copy of the poses and, only when every result is a
+/// valid pose, writes the free ones back in one setPoses() call.
+LocalOptimizationReport solveAndWriteBack(KeyframeGraph& graph, const LocalProblem& p,
+                                          const LocalOptimizerOptions& o,
+                                          LocalOptimizationReport r) {
+  r.verticesFixed = static_cast<int>(p.fixed.size());
+  r.verticesOptimised = static_cast<int>(p.poses.size() - p.fixed.size());
+  r.edges = static_cast<int>(p.edges.size());
+  r.residuals = static_cast<int>(p.matchCount());
+  r.invalidMatches = p.invalidMatches;
+  r.droppedMatches = p.droppedMatches;
+  if (p.edges.empty() || r.verticesOptimised == 0) {
+    r.status = LocalOptimizationReport::Status::NothingToOptimise;
+    r.message = "no usable edge with a free endpoint";
+    return r;
+  }
+
+  PoseProblem problem(p, o);
+  const ceres::Solver::Summary summary = problem.solve(o);
+  // Ceres' cost is ½ Σ ρ; report the paper's Σ.
+  r.initialCost = 2 * summary.initial_cost;
+  r.finalCost = 2 * summary.final_cost;
+  r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  r.status = LocalOptimizationReport::Status::Failed;
+  if (!summary.IsSolutionUsable() || !std::isfinite(r.finalCost)) {
+    r.message = "solver failed: " + summary.message;
+    return r;
+  }
+
+  const std::map<KeyframeId, Pose> optimised = problem.freePoses();
+  for (const auto& [id, pose] : optimised) {
+    if (!isValidPose(pose)) {
+      r.message = "solver returned an invalid pose for keyframe " + std::to_string(id);
+      return r;
+    }
+    const Pose& before = p.poses.at(id);
+    r.maxTranslationChange = std::max(r.maxTranslationChange, translationDistance(before, pose));
+    r.maxRotationChangeDeg =
+        std::max(r.maxRotationChangeDeg, rotationDistance(before, pose) * 180.0 / M_PI);
+  }
+  graph.setPoses(optimised);
+  r.status = LocalOptimizationReport::Status::Optimised;
+  r.usable = true;
+  r.message = summary.message;
+  return r;
+}
+}  // namespace
+
+LocalOptimizer::LocalOptimizer(const LocalOptimizerOptions& options) : options_(options) {
+  options_.validate();
+}
+
+LocalOptimizationReport LocalOptimizer::optimize(KeyframeGraph& graph, KeyframeId root) const {
+  const auto t0 = Clock::now();
+  LocalOptimizationReport r;
+  r.root = root;
+  if (!graph.contains(root)) {
+    r.status = LocalOptimizationReport::Status::Failed;
+    r.message = "unknown root keyframe";
+  } else {
+    LocalProblem p = snapshotRings(graph, root, options_.rings);
+    cleanMatches(p, options_.minWeight);
+    fixGauge(p, &root);
+    r = solveAndWriteBack(graph, p, options_, r);
+  }
+  r.timeMs = msSince(t0);
+  return r;
+}
+
+LocalOptimizationReport LocalOptimizer::optimizeAll(KeyframeGraph& graph) const {
+  const auto t0 = Clock::now();
+  LocalProblem p = snapshotAll(graph);
+  cleanMatches(p, options_.minWeight);
+  fixGauge(p, nullptr);  // smallest id of each component
+  LocalOptimizationReport r;
+  r.root = p.fixed.empty() ? 0 : *p.fixed.begin();
+  r = solveAndWriteBack(graph, p, options_, r);
+  r.timeMs = msSince(t0);
+  return r;
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,32 @@
+#pragma once
+// The whole pipeline's parameters: one INI file with sections [features], [tracker],
+// [optimizer] and [slam]. Unknown sections or keys are errors naming them.
+
+#include <slamdunk/features/FeatureExtractor.h>
+#include <slamdunk/optimization/LocalOptimizer.h>
+#include <slamdunk/tracking/TrackerOptions.h>
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace slamdunk {
+
+struct SlamOptions : public mrpt::config::CLoadableOptions {
+  FeatureOptions features;
+  TrackerOptions tracker;
+  LocalOptimizerOptions optimizer;
+  bool localOptimization = true;   ///< run the relative BA when a keyframe is created
+  bool optimizerThread = false;    ///< run it beside tracking (live use) instead of inline
+  bool globalPassAtEnd = false;    ///< one optimization over the whole graph at the end
+
+  /// Reads the sections of a pipeline INI; sections absent keep their defaults.
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& sectionPrefix = "") override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& sectionPrefix = "") const override;
+  /// Loads a file; throws std::runtime_error naming the file and the bad key or section.
+  static SlamOptions fromFile(const std::string& path);
+};
+
+}  // namespace slamdunk

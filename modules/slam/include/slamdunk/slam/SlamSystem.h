@@ -1,0 +1,83 @@
+#pragma once
+// The SlamDunk pipeline for one camera: tracking, keyframe graph, local optimization (inline or
+// in its own thread), and every frame's pose kept relative to its reference keyframe so that
+// optimization moves the whole trajectory.
+
+#include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/optimization/LocalOptimizer.h>
+#include <slamdunk/slam/SlamOptions.h>
+#include <slamdunk/tracking/Tracker.h>
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace slamdunk {
+
+/// What happened to one input frame, with its pose stored relative to a keyframe.
+struct FrameRecord {
+  double timestamp = 0;
+  TrackingStatus status = TrackingStatus::Lost;
+  KeyframeId reference = 0;
+  Pose poseInReference = Pose::Identity();
+};
+
+struct SlamStatistics {
+  size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
+  size_t optimizations = 0;
+  std::vector<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
+  std::vector<double> optimizationMs;      ///< one per local optimization
+  double maxOptimizationTranslation = 0;   ///< metres: largest pose change by any optimization
+  double maxOptimizationRotationDeg = 0;
+  std::vector<std::string> lostReasons;    ///< distinct reasons, first occurrence order
+};
+
+class SlamSystem {
+ public:
+  explicit SlamSystem(const SlamOptions& options,
+                      std::shared_ptr<KeyframeGraph> graph = nullptr);
+  ~SlamSystem();  ///< stops the optimizer thread
+  SlamSystem(const SlamSystem&) = delete;
+  SlamSystem& operator=(const SlamSystem&) = delete;
+
+  /// Builds the frame from the observation; a malformed observation (no depth, sizes that
+  /// disagree, ...) is reported as a lost frame with the reason, never thrown.
+  TrackingResult process(const mrpt::obs::CObservation3DRangeScan& obs);
+  TrackingResult process(const RgbdFrame& frame);
+
+  /// Waits for pending optimizations, then runs the final global pass if enabled.
+  void finish();
+
+  /// Poses of all tracked frames (lost ones are left out), through their reference keyframe.
+  Trajectory trajectory() const;
+  Trajectory keyframeTrajectory() const;
+  const std::vector<FrameRecord>& frames() const { return frames_; }
+  SlamStatistics statistics() const;
+  const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
+  const SlamOptions& options() const { return options_; }
+
+ private:
+  void optimizeAround(KeyframeId root);
+  void optimizerLoop();
+  void waitForOptimizer();
+
+  SlamOptions options_;
+  std::shared_ptr<KeyframeGraph> graph_;
+  Tracker tracker_;
+  LocalOptimizer optimizer_;
+  std::vector<FrameRecord> frames_;
+  SlamStatistics stats_;
+
+  mutable std::mutex statsMutex_;  // optimization figures are written by the optimizer thread
+  std::mutex jobMutex_;
+  std::condition_variable jobCv_;
+  bool jobPending_ = false, busy_ = false, stopping_ = false;
+  KeyframeId jobRoot_ = 0;
+  std::thread optimizerThread_;
+};
+
+}  // namespace slamdunk

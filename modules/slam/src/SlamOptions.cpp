@@ -1,0 +1,57 @@
+#include <slamdunk/core/IniOptions.h>
+#include <slamdunk/slam/SlamOptions.h>
+
+#include <mrpt/config/CConfigFile.h>
+
+#include <filesystem>
+#include <set>
+#include <stdexcept>
+
+namespace slamdunk {
+
+namespace {
+const std::set<std::string> kSections{"features", "tracker", "optimizer", "slam"};
+}
+
+void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                     const std::string& prefix) {
+  std::vector<std::string> sections;
+  cfg.getAllSections(sections);
+  for (const auto& s : sections)
+    if (!s.empty() && s.rfind(prefix, 0) == 0 && !kSections.count(s.substr(prefix.size())))
+      throw std::invalid_argument("unknown section [" + s +
+                                  "] (known: features, tracker, optimizer, slam)");
+  features.loadFromConfigFile(cfg, prefix + "features");
+  tracker.loadFromConfigFile(cfg, prefix + "tracker");
+  optimizer.loadFromConfigFile(cfg, prefix + "optimizer");
+  IniSectionReader r(cfg, prefix + "slam");
+  localOptimization = r.readBool("local_optimization", localOptimization);
+  optimizerThread = r.readBool("optimizer_thread", optimizerThread);
+  globalPassAtEnd = r.readBool("global_pass_at_end", globalPassAtEnd);
+  r.rejectUnknownKeys();
+}
+
+void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                   const std::string& prefix) const {
+  features.saveToConfigFile(cfg, prefix + "features");
+  tracker.saveToConfigFile(cfg, prefix + "tracker");
+  optimizer.saveToConfigFile(cfg, prefix + "optimizer");
+  cfg.write(prefix + "slam", "local_optimization", localOptimization);
+  cfg.write(prefix + "slam", "optimizer_thread", optimizerThread);
+  cfg.write(prefix + "slam", "global_pass_at_end", globalPassAtEnd);
+}
+
+SlamOptions SlamOptions::fromFile(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error("configuration file '" + path + "' does not exist");
+  mrpt::config::CConfigFile cfg(path);
+  SlamOptions o;
+  try {
+    o.loadFromConfigFile(cfg, "");
+  } catch (const std::exception& e) {
+    throw std::runtime_error("configuration file '" + path + "': " + e.what());
+  }
+  return o;
+}
+
+}  // namespace slamdunk

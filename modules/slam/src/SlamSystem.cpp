@@ -1,0 +1,151 @@
+#include <slamdunk/slam/SlamSystem.h>
+
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+
+namespace slamdunk {
+
+SlamSystem::SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph> graph)
+    : options_(options),
+      graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
+      tracker_(options.tracker, options.features, graph_),
+      optimizer_(options.optimizer) {
+  if (options_.localOptimization && options_.optimizerThread)
+    optimizerThread_ = std::thread([this] { optimizerLoop(); });
+}
+
+SlamSystem::~SlamSystem() {
+  {
+    std::lock_guard lock(jobMutex_);
+    stopping_ = true;
+  }
+  jobCv_.notify_all();
+  if (optimizerThread_.joinable()) optimizerThread_.join();
+}
+
+TrackingResult SlamSystem::process(const mrpt::obs::CObservation3DRangeScan& obs) {
+  try {
+    return process(RgbdFrame::fromObservation(obs));
+  } catch (const std::exception& e) {
+    TrackingResult r;
+    r.timestamp = mrpt::Clock::toDouble(obs.timestamp);
+    r.status = TrackingStatus::Lost;
+    r.lostReason = std::string("unusable observation: ") + e.what();
+    frames_.push_back({r.timestamp, r.status, 0, Pose::Identity()});
+    std::lock_guard lock(statsMutex_);
+    ++stats_.frames;
+    ++stats_.lost;
+    if (std::find(stats_.lostReasons.begin(), stats_.lostReasons.end(), r.lostReason) ==
+        stats_.lostReasons.end())
+      stats_.lostReasons.push_back(r.lostReason);
+    return r;
+  }
+}
+
+TrackingResult SlamSystem::process(const RgbdFrame& frame) {
+  TrackingResult r = tracker_.process(frame);
+  frames_.push_back({r.timestamp, r.status, r.reference, r.poseInReference});
+  {
+    std::lock_guard lock(statsMutex_);
+    ++stats_.frames;
+    stats_.stageTimings.push_back(r.timings);
+    if (r.status == TrackingStatus::Lost) {
+      ++stats_.lost;
+      // Reasons carry numbers; keep the distinct leading phrase only to bound the list.
+      const std::string key = r.lostReason.substr(0, r.lostReason.find_first_of("0123456789"));
+      if (std::none_of(stats_.lostReasons.begin(), stats_.lostReasons.end(),
+                       [&](const std::string& s) { return s.rfind(key, 0) == 0; }))
+        stats_.lostReasons.push_back(r.lostReason);
+    } else {
+      ++stats_.tracked;
+    }
+    if (r.newKeyframe) ++stats_.keyframes;
+    if (r.loopClosure) ++stats_.loopClosures;
+  }
+  if (r.newKeyframe && options_.localOptimization && graph_->keyframeCount() > 1) {
+    if (optimizerThread_.joinable()) {
+      // Latest keyframe wins: a backlog is collapsed into one optimization around the newest.
+      {
+        std::lock_guard lock(jobMutex_);
+        jobPending_ = true;
+        jobRoot_ = r.keyframeId;
+      }
+      jobCv_.notify_all();
+    } else {
+      optimizeAround(r.keyframeId);
+    }
+  }
+  return r;
+}
+
+void SlamSystem::optimizeAround(KeyframeId root) {
+  const LocalOptimizationReport rep = optimizer_.optimize(*graph_, root);
+  tracker_.notifyMapChanged();
+  std::lock_guard lock(statsMutex_);
+  if (rep.status == LocalOptimizationReport::Status::NothingToOptimise) return;
+  ++stats_.optimizations;
+  stats_.optimizationMs.push_back(rep.timeMs);
+  stats_.maxOptimizationTranslation =
+      std::max(stats_.maxOptimizationTranslation, rep.maxTranslationChange);
+  stats_.maxOptimizationRotationDeg =
+      std::max(stats_.maxOptimizationRotationDeg, rep.maxRotationChangeDeg);
+}
+
+void SlamSystem::optimizerLoop() {
+  std::unique_lock lock(jobMutex_);
+  for (;;) {
+    jobCv_.wait(lock, [&] { return jobPending_ || stopping_; });
+    if (stopping_) return;
+    const KeyframeId root = jobRoot_;
+    jobPending_ = false;
+    busy_ = true;
+    lock.unlock();
+    optimizeAround(root);
+    lock.lock();
+    busy_ = false;
+    jobCv_.notify_all();
+  }
+}
+
+void SlamSystem::waitForOptimizer() {
+  if (!optimizerThread_.joinable()) return;
+  std::unique_lock lock(jobMutex_);
+  jobCv_.wait(lock, [&] { return !jobPending_ && !busy_; });
+}
+
+void SlamSystem::finish() {
+  waitForOptimizer();
+  if (options_.globalPassAtEnd && graph_->keyframeCount() > 1) {
+    const LocalOptimizationReport rep = optimizer_.optimizeAll(*graph_);
+    std::lock_guard lock(statsMutex_);
+    if (rep.usable) {
+      ++stats_.optimizations;
+      stats_.optimizationMs.push_back(rep.timeMs);
+    }
+  }
+}
+
+Trajectory SlamSystem::trajectory() const {
+  const auto poses = graph_->poses();
+  Trajectory out;
+  for (const FrameRecord& f : frames_) {
+    if (f.status == TrackingStatus::Lost) continue;
+    out.push_back({f.timestamp, poses.at(f.reference) * f.poseInReference});
+  }
+  return out;
+}
+
+Trajectory SlamSystem::keyframeTrajectory() const {
+  Trajectory out;
+  for (const auto& [id, pose] : graph_->poses())
+    out.push_back({graph_->keyframe(id)->timestamp, pose});
+  return out;
+}
+
+SlamStatistics SlamSystem::statistics() const {
+  std::lock_guard lock(statsMutex_);
+  return stats_;
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,35 @@
+#pragma once
+// Keyframe spawning by overlap (paper Sec. 4.2): the image is divided into N×M cells; a cell
+// counts when it holds more than F matched inliers; spawn when the count falls below τ.
+
+#include <opencv2/core/types.hpp>
+
+#include <vector>
+
+namespace slamdunk {
+
+struct KeyframePolicyOptions {
+  int gridCols = 4;             ///< N
+  int gridRows = 4;             ///< M
+  int minInliersPerCell = 1;    ///< F: a cell counts when it holds more than F inliers
+  double minOverlap = 0.8;      ///< τ
+  /// Count only cells where the frame itself has more than F features: a textureless part of
+  /// the view (a white wall) can never overlap and would otherwise force a keyframe per frame.
+  bool onlyTexturedCells = true;
+};
+
+class KeyframePolicy {
+ public:
+  explicit KeyframePolicy(KeyframePolicyOptions options = {}) : options_(options) {}
+
+  /// Fraction of (eligible) cells holding more than F inliers.
+  double overlap(const std::vector<cv::Point2f>& inlierPixels,
+                 const std::vector<cv::Point2f>& allFeaturePixels, int width, int height) const;
+  bool shouldSpawn(double overlap) const { return overlap < options_.minOverlap; }
+  const KeyframePolicyOptions& options() const { return options_; }
+
+ private:
+  KeyframePolicyOptions options_;
+};
+
+}  // namespace slamdunk

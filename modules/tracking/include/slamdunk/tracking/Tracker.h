@@ -1,0 +1,90 @@
+#pragma once
+// Camera tracking (paper Sec. 4.1, 4.2, 4.4): features of each frame are matched against the
+// feature pool of the active keyframe window, the pose comes from RANSAC absolute orientation,
+// and the overlap policy or the metric-loop test decides when a frame becomes a keyframe.
+//
+// The tracker never optimizes: it reports new keyframes, and whoever runs the optimizer (in the
+// same or another thread) calls notifyMapChanged() afterwards.
+
+#include <slamdunk/features/FeatureExtractor.h>
+#include <slamdunk/graph/KeyframeGraph.h>
+#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/QuadTree.h>
+#include <slamdunk/tracking/TrackerOptions.h>
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace slamdunk {
+
+enum class TrackingStatus { Initialized, Tracked, Lost };
+const char* toString(TrackingStatus s);
+
+/// Milliseconds spent in each stage for one frame.
+struct StageTimings {
+  double features = 0, pool = 0, matching = 0, ransac = 0, total = 0;
+};
+
+struct TrackingResult {
+  TrackingStatus status = TrackingStatus::Lost;
+  double timestamp = 0;
+  Pose pose = Pose::Identity();  ///< T_world_frame; the last good pose when lost
+  KeyframeId reference = 0;      ///< reference keyframe (not meaningful when lost)
+  Pose poseInReference = Pose::Identity();  ///< T_reference_frame
+  bool newKeyframe = false;
+  bool loopClosure = false;  ///< the new keyframe was promoted by the metric-loop test
+  KeyframeId keyframeId = 0; ///< id of the new keyframe, if any
+  size_t features = 0, matches = 0, inliers = 0;
+  double overlap = 0;
+  std::vector<KeyframeId> matchedKeyframes;
+  std::string lostReason;
+  StageTimings timings;
+};
+
+class Tracker {
+ public:
+  Tracker(const TrackerOptions& options, const FeatureOptions& featureOptions,
+          std::shared_ptr<KeyframeGraph> graph);
+  ~Tracker();
+
+  TrackingResult process(const RgbdFrame& frame);
+  /// Keyframe poses changed (local optimization): re-query the window around the newest
+  /// keyframe's pose and rebuild the pool before the next frame. Callable from any thread.
+  void notifyMapChanged() { mapChanged_ = true; }
+
+  const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
+  bool isLost() const { return lost_; }
+  size_t poolSize() const { return pool_.size(); }
+  const TrackerOptions& options() const { return options_; }
+  const FeatureExtractor& extractor() const { return extractor_; }
+
+ private:
+  TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r);
+  KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
+  void linkKeyframe(KeyframeId id, const FeatureSet& features,
+                    const std::vector<PoolMatch>& inlierMatches);
+  void syncQuadTree();
+  void rebuildPool(const Pose& center, const CameraIntrinsics& K);
+  bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
+
+  TrackerOptions options_;
+  FeatureExtractor extractor_;
+  KeyframePolicy policy_;
+  std::shared_ptr<KeyframeGraph> graph_;
+  QuadTree quadTree_;
+  std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
+  FeaturePool pool_;
+  Pose windowCenter_ = Pose::Identity();
+  Pose lastPose_ = Pose::Identity();
+  bool lost_ = false;
+  bool poolDirty_ = false;
+  std::atomic<bool> mapChanged_{false};
+  KeyframeId nextKeyframeId_ = 0;
+  KeyframeId newestKeyframe_ = 0;
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,32 @@
+#pragma once
+// Every tracking parameter, read from one INI section (paper Table 3 names in comments).
+
+#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/RansacAbsoluteOrientation.h>
+
+#include <mrpt/config/CLoadableOptions.h>
+
+namespace slamdunk {
+
+struct TrackerOptions : public mrpt::config::CLoadableOptions {
+  double windowSize = 5.0;     ///< W: side of the active window square, metres
+  double windowShift = 0.25;   ///< T: move the window when the camera is this far from its centre
+  double ratioThreshold = 0.8; ///< θ: multi-view ratio test
+  int loopHopThreshold = 3;    ///< matched keyframes farther apart than this (R) close a loop
+  int loopMinInliers = 10;     ///< a keyframe "matches" the frame with at least this many inliers
+  int edgeMinMatches = 5;      ///< fewer inlier matches with a keyframe make no graph edge
+  int minFeatures = 20;        ///< fewer features with depth: the frame cannot be tracked
+  double maxTranslationJump = 0.5; ///< metres between consecutive tracked frames (not when lost)
+  bool keepKeyframeImages = true;  ///< store colour+depth in keyframes for dense outputs
+  FeaturePoolOptions pool;
+  RansacOptions ransac;
+  KeyframePolicyOptions keyframes;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
+};
+
+}  // namespace slamdunk

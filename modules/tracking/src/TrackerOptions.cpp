@@ -1,0 +1,93 @@
+#include <slamdunk/core/IniOptions.h>
+#include <slamdunk/tracking/TrackerOptions.h>
+
+#include <stdexcept>
+
+namespace slamdunk {
+
+void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                        const std::string& section) {
+  IniSectionReader r(cfg, section);
+  windowSize = r.readDouble("window_size", windowSize);
+  windowShift = r.readDouble("window_shift", windowShift);
+  ratioThreshold = r.readDouble("ratio_threshold", ratioThreshold);
+  loopHopThreshold = r.readInt("loop_hop_threshold", loopHopThreshold);
+  loopMinInliers = r.readInt("loop_min_inliers", loopMinInliers);
+  edgeMinMatches = r.readInt("edge_min_matches", edgeMinMatches);
+  minFeatures = r.readInt("min_features", minFeatures);
+  maxTranslationJump = r.readDouble("max_translation_jump", maxTranslationJump);
+  keepKeyframeImages = r.readBool("keep_keyframe_images", keepKeyframeImages);
+
+  pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
+  pool.checks = r.readInt("kdtree_checks", pool.checks);
+  pool.neighbours = r.readInt("knn_neighbours", pool.neighbours);
+  pool.searchThreads = r.readInt("search_threads", pool.searchThreads);
+  pool.frustumFilter = r.readBool("pool_frustum_filter", pool.frustumFilter);
+  pool.frustumFar = r.readDouble("pool_frustum_far", pool.frustumFar);
+  pool.frustumMargin = r.readDouble("pool_frustum_margin", pool.frustumMargin);
+  pool.seed = static_cast<uint32_t>(r.readInt("kdtree_seed", static_cast<int>(pool.seed)));
+
+  ransac.inlierThreshold = r.readDouble("ransac_threshold", ransac.inlierThreshold);
+  ransac.depthCoefficient = r.readDouble("ransac_depth_coefficient", ransac.depthCoefficient);
+  ransac.confidence = r.readDouble("ransac_confidence", ransac.confidence);
+  ransac.maxIterations = r.readInt("ransac_max_iterations", ransac.maxIterations);
+  ransac.minInliers = r.readInt("min_inliers", ransac.minInliers);
+  ransac.seed = static_cast<uint32_t>(r.readInt("ransac_seed", static_cast<int>(ransac.seed)));
+
+  keyframes.gridCols = r.readInt("grid_cols", keyframes.gridCols);
+  keyframes.gridRows = r.readInt("grid_rows", keyframes.gridRows);
+  keyframes.minInliersPerCell = r.readInt("cell_min_inliers", keyframes.minInliersPerCell);
+  keyframes.minOverlap = r.readDouble("keyframe_overlap", keyframes.minOverlap);
+  keyframes.onlyTexturedCells = r.readBool("only_textured_cells", keyframes.onlyTexturedCells);
+  r.rejectUnknownKeys();
+
+  auto require = [&](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument("[" + section + "] " + what);
+  };
+  require(windowSize > 0, "window_size must be > 0");
+  require(windowShift >= 0, "window_shift must be >= 0");
+  require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
+  require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
+  require(pool.searchThreads >= 1, "search_threads must be >= 1");
+  require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
+  require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
+  require(ransac.maxIterations >= 1, "ransac_max_iterations must be >= 1");
+  require(ransac.minInliers >= 3, "min_inliers must be >= 3");
+  require(keyframes.gridCols >= 1 && keyframes.gridRows >= 1, "grid_cols, grid_rows must be >= 1");
+  require(keyframes.minOverlap >= 0 && keyframes.minOverlap <= 1,
+          "keyframe_overlap must be in [0, 1]");
+}
+
+void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                      const std::string& s) const {
+  cfg.write(s, "window_size", windowSize);
+  cfg.write(s, "window_shift", windowShift);
+  cfg.write(s, "ratio_threshold", ratioThreshold);
+  cfg.write(s, "loop_hop_threshold", loopHopThreshold);
+  cfg.write(s, "loop_min_inliers", loopMinInliers);
+  cfg.write(s, "edge_min_matches", edgeMinMatches);
+  cfg.write(s, "min_features", minFeatures);
+  cfg.write(s, "max_translation_jump", maxTranslationJump);
+  cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
+  cfg.write(s, "kdtree_trees", pool.kdTrees);
+  cfg.write(s, "kdtree_checks", pool.checks);
+  cfg.write(s, "knn_neighbours", pool.neighbours);
+  cfg.write(s, "search_threads", pool.searchThreads);
+  cfg.write(s, "pool_frustum_filter", pool.frustumFilter);
+  cfg.write(s, "pool_frustum_far", pool.frustumFar);
+  cfg.write(s, "pool_frustum_margin", pool.frustumMargin);
+  cfg.write(s, "kdtree_seed", static_cast<int>(pool.seed));
+  cfg.write(s, "ransac_threshold", ransac.inlierThreshold);
+  cfg.write(s, "ransac_depth_coefficient", ransac.depthCoefficient);
+  cfg.write(s, "ransac_confidence", ransac.confidence);
+  cfg.write(s, "ransac_max_iterations", ransac.maxIterations);
+  cfg.write(s, "min_inliers", ransac.minInliers);
+  cfg.write(s, "ransac_seed", static_cast<int>(ransac.seed));
+  cfg.write(s, "grid_cols", keyframes.gridCols);
+  cfg.write(s, "grid_rows", keyframes.gridRows);
+  cfg.write(s, "cell_min_inliers", keyframes.minInliersPerCell);
+  cfg.write(s, "keyframe_overlap", keyframes.minOverlap);
+  cfg.write(s, "only_textured_cells", keyframes.onlyTexturedCells);
+}
+
+}  // namespace slamdunk

@@ -1,0 +1,578 @@
+#include <slamdunk/optimization/LocalOptimizer.h>
+
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <thread>
+
+using namespace slamdunk;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+/// Ground-truth keyframe poses along a sideways path facing a textured volume of landmarks,
+/// and generators of noisy point matches between keyframes.
+class Scene {
+ public:
+  explicit Scene(int keyframes, unsigned seed = 7) : rng_(seed) {
+    for (int k = 0; k < keyframes; ++k) truth_.push_back(truthPose(k));
+    std::uniform_real_distribution<double> ux(-2.0, 0.2 * keyframes + 2.0), uy(-1.2, 1.2),
+        uz(1.0, 3.5);
+    for (int n = 0; n < 400 * keyframes; ++n) landmarks_.emplace_back(ux(rng_), uy(rng_), uz(rng_));
+  }
+
+  /// Sideways walk past a wall of landmarks, with the hand-held wobble of a real sequence.
+  static Pose truthPose(int k) {
+    Pose p = Pose::Identity();
+    p.linear() = (Eigen::AngleAxisd(10 * kDeg * std::sin(0.3 * k), Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(4 * kDeg * std::sin(0.5 * k), Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(2 * kDeg * std::sin(0.7 * k), Eigen::Vector3d::UnitZ()))
+                     .toRotationMatrix();
+    p.translation() = Eigen::Vector3d(0.2 * k, 0.05 * std::sin(0.5 * k), 0.1 * std::sin(0.2 * k));
+    return p;
+  }
+
+  const Pose& truth(int k) const { return truth_.at(k); }
+  int size() const { return static_cast<int>(truth_.size()); }
+
+  /// `count` matches of landmarks seen by both keyframes, σ noise per coordinate, weights in
+  /// [0.2, 1] like 1 − θ' with the paper's θ = 0.8.
+  std::vector<PointMatch> matches(int i, int j, int count, double sigma) {
+    std::normal_distribution<double> noise(0, sigma);
+    std::uniform_real_distribution<double> weight(0.2, 1.0);
+    std::vector<int> seen;
+    for (int n = 0; n < static_cast<int>(landmarks_.size()); ++n)
+      if (visible(i, landmarks_[n]) && visible(j, landmarks_[n])) seen.push_back(n);
+    std::shuffle(seen.begin(), seen.end(), rng_);
+    std::vector<PointMatch> out;
+    for (int n : seen) {
+      if (static_cast<int>(out.size()) == count) break;
+      const Eigen::Vector3d& X = landmarks_[n];
+      const Eigen::Vector3d e1(noise(rng_), noise(rng_), noise(rng_));
+      const Eigen::Vector3d e2(noise(rng_), noise(rng_), noise(rng_));
+      out.push_back({truth_[i].inverse() * X + e1, truth_[j].inverse() * X + e2, weight(rng_)});
+    }
+    return out;
+  }
+
+  /// Wrong matches: p_j is a random point 0.3-1 m away from where it should be.
+  std::vector<PointMatch> outliers(int i, int j, int count, double w) {
+    auto out = matches(i, j, count, 0.0);
+    std::uniform_real_distribution<double> u(-1, 1), len(0.3, 1.0);
+    for (PointMatch& m : out) {
+      m.pointJ += len(rng_) * Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
+      m.weight = w;
+    }
+    return out;
+  }
+
+  /// Ground truth moved by a few cm and degrees.
+  Pose perturbed(int k) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    const Eigen::Vector3d axis = Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
+    Pose d = Pose::Identity();
+    d.linear() = Eigen::AngleAxisd((2 + u(rng_)) * kDeg, axis).toRotationMatrix();
+    d.translation() = 0.04 * Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
+    return truth_[k] * d;
+  }
+
+  std::mt19937& rng() { return rng_; }
+
+ private:
+  bool visible(int k, const Eigen::Vector3d& X) const {
+    const Eigen::Vector3d c = truth_[k].inverse() * X;
+    return c.z() > 0.5 && c.z() < 5.0 && std::abs(c.x()) < 0.55 * c.z() &&
+           std::abs(c.y()) < 0.42 * c.z();
+  }
+
+  std::mt19937 rng_;
+  std::vector<Pose> truth_;
+  std::vector<Eigen::Vector3d> landmarks_;
+};
+
+KeyframePtr makeKeyframe(KeyframeId id) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = id;
+  return kf;
+}
+
+/// Chain graph: keyframe k linked to k-1..k-span. Keyframes in `perturb` start off their
+/// ground truth; the others start exactly on it.
+void buildChain(KeyframeGraph& g, Scene& s, int span, int matchesPerEdge,
+                const std::vector<int>& perturb, double sigma = 0.002) {
+  for (int k = 0; k < s.size(); ++k) {
+    const bool off = std::count(perturb.begin(), perturb.end(), k) > 0;
+    g.addKeyframe(makeKeyframe(k), off ? s.perturbed(k) : s.truth(k));
+  }
+  for (int k = 0; k < s.size(); ++k)
+    for (int d = 1; d <= span && k - d >= 0; ++d)
+      g.addMatches(k - d, k, s.matches(k - d, k, matchesPerEdge, sigma));
+}
+
+std::vector<int> range(int from, int to) {  // [from, to)
+  std::vector<int> v;
+  for (int k = from; k < to; ++k) v.push_back(k);
+  return v;
+}
+
+struct PoseError {
+  double translation = 0;  // metres
+  double rotationDeg = 0;
+};
+
+PoseError maxError(const KeyframeGraph& g, const Scene& s, const std::vector<int>& ids) {
+  PoseError e;
+  for (int k : ids) {
+    e.translation = std::max(e.translation, translationDistance(g.pose(k), s.truth(k)));
+    e.rotationDeg = std::max(e.rotationDeg, rotationDistance(g.pose(k), s.truth(k)) / kDeg);
+  }
+  return e;
+}
+
+bool bitIdentical(const Pose& a, const Pose& b) { return a.matrix() == b.matrix(); }
+
+LocalOptimizerOptions paperOptions(int rings = 3) {
+  LocalOptimizerOptions o;
+  o.rings = rings;
+  o.robustLoss = RobustLoss::None;
+  return o;
+}
+
+}  // namespace
+
+// --- accuracy -----------------------------------------------------------------------------
+
+TEST(LocalOptimizer, RecoversFreePosesAgainstFixedOuterRing) {
+  // 10 keyframes, k linked to k-1 and k-2. From root 9 with R = 3: rings {9}, {7,8}, {5,6}
+  // are free; ring 3 = {3,4} is fixed (and on ground truth, so it pins the gauge).
+  for (RobustLoss loss : {RobustLoss::None, RobustLoss::Huber, RobustLoss::Cauchy}) {
+    Scene s(10);
+    KeyframeGraph g;
+    buildChain(g, s, 2, 150, range(5, 10));
+    const PoseError before = maxError(g, s, range(5, 10));
+    LocalOptimizerOptions o = paperOptions(3);
+    o.robustLoss = loss;
+    const auto r = LocalOptimizer(o).optimize(g, 9);
+    const PoseError after = maxError(g, s, range(5, 10));
+    std::cout << toString(loss) << ": " << r.toString() << "\n  error before " << before.translation
+              << " m " << before.rotationDeg << " deg, after " << after.translation * 1000
+              << " mm " << after.rotationDeg << " deg\n";
+    ASSERT_TRUE(r.usable) << r.toString();
+    EXPECT_EQ(r.status, LocalOptimizationReport::Status::Optimised);
+    EXPECT_EQ(r.verticesOptimised, 5);
+    EXPECT_EQ(r.verticesFixed, 2);
+    EXPECT_EQ(r.edges, 10);  // the 11 edges within {3..9} minus (3,4), which joins two fixed
+    EXPECT_EQ(r.residuals, 10 * 150);
+    EXPECT_GT(before.translation, 0.02);
+    EXPECT_LT(after.translation, 0.001);
+    EXPECT_LT(after.rotationDeg, 0.1);
+    EXPECT_LT(r.finalCost, 0.01 * r.initialCost);
+    EXPECT_GT(r.maxTranslationChange, 0.02);
+    EXPECT_GT(r.maxRotationChangeDeg, 1.0);
+  }
+}
+
+TEST(LocalOptimizer, FixedRingAndVerticesBeyondItDoNotMove) {
+  Scene s(10);
+  KeyframeGraph g;
+  buildChain(g, s, 2, 100, range(0, 10));  // everything off ground truth
+  const auto before = g.poses();
+  const auto r = LocalOptimizer(paperOptions(3)).optimize(g, 9);
+  ASSERT_TRUE(r.usable) << r.toString();
+  const auto after = g.poses();
+  for (int k = 0; k <= 4; ++k)  // ring 3 = {3,4}; 0..2 are beyond it
+    EXPECT_TRUE(bitIdentical(before.at(k), after.at(k))) << "keyframe " << k << " moved";
+  for (int k = 5; k <= 9; ++k)
+    EXPECT_FALSE(bitIdentical(before.at(k), after.at(k))) << "free keyframe " << k << " stuck";
+}
+
+TEST(LocalOptimizer, EmptyOuterRingFixesTheRoot) {
+  // 5 keyframes, R = 10: the whole component is within R-1 rings, so the root holds the gauge.
+  Scene s(5);
+  KeyframeGraph g;
+  buildChain(g, s, 2, 150, range(0, 4));  // root 4 starts on ground truth
+  const Pose rootBefore = g.pose(4);
+  const auto r = LocalOptimizer(paperOptions(10)).optimize(g, 4);
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.verticesFixed, 1);
+  EXPECT_EQ(r.verticesOptimised, 4);
+  EXPECT_TRUE(bitIdentical(rootBefore, g.pose(4)));
+  const PoseError e = maxError(g, s, range(0, 4));
+  std::cout << "root fixed: " << e.translation * 1000 << " mm " << e.rotationDeg << " deg\n";
+  EXPECT_LT(e.translation, 0.001);
+  EXPECT_LT(e.rotationDeg, 0.1);
+}
+
+TEST(LocalOptimizer, EmptyOuterRingWithPerturbedRootKeepsRelativePoses) {
+  // The root is off ground truth too: the solution is then ground truth seen from the root.
+  Scene s(5);
+  KeyframeGraph g;
+  buildChain(g, s, 2, 150, range(0, 5));
+  const Pose root = g.pose(4);
+  LocalOptimizer(paperOptions(3)).optimize(g, 4);
+  EXPECT_TRUE(bitIdentical(root, g.pose(4)));
+  for (int k = 0; k < 4; ++k) {
+    const Pose rel = root.inverse() * g.pose(k);
+    const Pose relTruth = s.truth(4).inverse() * s.truth(k);
+    EXPECT_LT(translationDistance(rel, relTruth), 0.001) << k;
+    EXPECT_LT(rotationDistance(rel, relTruth) / kDeg, 0.1) << k;
+  }
+}
+
+// --- weights and outliers --------------------------------------------------------------------
+
+namespace {
+/// Chain of 8 (root 7, R = 3, fixed ring {1,2}) with `outliers` wrong matches of weight w added
+/// to every edge; returns the largest error of the free keyframes.
+PoseError solveWithOutliers(RobustLoss loss, int outliers, double w, double minWeight = 0) {
+  Scene s(8, 11);
+  KeyframeGraph g;
+  buildChain(g, s, 2, 150, range(3, 8));
+  for (int k = 1; k < 8; ++k)
+    for (int d = 1; d <= 2 && k - d >= 0; ++d)
+      g.addMatches(k - d, k, s.outliers(k - d, k, outliers, w));
+  LocalOptimizerOptions o = paperOptions(3);
+  o.robustLoss = loss;
+  o.robustLossScale = 0.03;
+  o.minWeight = minWeight;
+  const auto r = LocalOptimizer(o).optimize(g, 7);
+  EXPECT_TRUE(r.usable) << r.toString();
+  const PoseError e = maxError(g, s, range(3, 8));
+  std::cout << toString(loss) << ", " << outliers << " outliers/edge of weight " << w << ": "
+            << e.translation * 1000 << " mm " << e.rotationDeg << " deg (" << r.iterations
+            << " it, " << r.timeMs << " ms)\n";
+  return e;
+}
+}  // namespace
+
+TEST(LocalOptimizer, OutliersWithWeightOneSpoilThePlainCost) {
+  // Shows that the outliers below are harmful, so the next tests measure something.
+  EXPECT_GT(solveWithOutliers(RobustLoss::None, 15, 1.0).translation, 0.005);
+}
+
+TEST(LocalOptimizer, NearZeroWeightOutliersDoNotSpoilTheResult) {
+  const PoseError e = solveWithOutliers(RobustLoss::None, 15, 1e-4);
+  EXPECT_LT(e.translation, 0.001);
+  EXPECT_LT(e.rotationDeg, 0.1);
+  const PoseError zero = solveWithOutliers(RobustLoss::None, 15, 0.0);
+  EXPECT_LT(zero.translation, 0.001);
+  // min_weight drops them altogether, even with a larger weight.
+  const PoseError dropped = solveWithOutliers(RobustLoss::None, 15, 0.1, 0.15);
+  EXPECT_LT(dropped.translation, 0.001);
+}
+
+TEST(LocalOptimizer, RobustLossToleratesWeightOneOutliers) {
+  const PoseError huber = solveWithOutliers(RobustLoss::Huber, 15, 1.0);
+  EXPECT_LT(huber.translation, 0.003);
+  EXPECT_LT(huber.rotationDeg, 0.1);
+  const PoseError cauchy = solveWithOutliers(RobustLoss::Cauchy, 15, 1.0);
+  EXPECT_LT(cauchy.translation, 0.002);
+  EXPECT_LT(cauchy.rotationDeg, 0.1);
+}
+
+TEST(LocalOptimizer, MinWeightDropsMatchesAndCountsThem) {
+  Scene s(4);
+  KeyframeGraph g;
+  buildChain(g, s, 1, 100, {});
+  LocalOptimizerOptions o = paperOptions(3);
+  o.minWeight = 0.6;  // weights are uniform in [0.2, 1]: about half go
+  const auto r = LocalOptimizer(o).optimize(g, 3);
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.residuals + r.droppedMatches, 300);
+  EXPECT_GT(r.droppedMatches, 80);
+  EXPECT_LT(r.droppedMatches, 220);
+}
+
+// --- global pass ------------------------------------------------------------------------
+
+TEST(LocalOptimizer, OptimizeAllRecoversTheWholeChainWithTheFirstKeyframeFixed) {
+  Scene s(12);
+  KeyframeGraph g;
+  buildChain(g, s, 3, 150, range(1, 12));
+  const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
+  std::cout << "optimizeAll: " << r.toString() << "\n";
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.verticesFixed, 1);
+  EXPECT_EQ(r.verticesOptimised, 11);
+  EXPECT_TRUE(bitIdentical(g.pose(0), s.truth(0)));
+  const PoseError e = maxError(g, s, range(1, 12));
+  std::cout << "  error " << e.translation * 1000 << " mm " << e.rotationDeg << " deg\n";
+  EXPECT_LT(e.translation, 0.001);
+  EXPECT_LT(e.rotationDeg, 0.1);
+}
+
+TEST(LocalOptimizer, OptimizeAllFixesOneKeyframePerComponent) {
+  // Two chains with no edge between them: each needs its own gauge vertex.
+  Scene s(8);
+  KeyframeGraph g;
+  for (int k = 0; k < 8; ++k) g.addKeyframe(makeKeyframe(k), k == 0 || k == 4 ? s.truth(k) : s.perturbed(k));
+  for (int k = 1; k < 8; ++k)
+    if (k != 4) g.addMatches(k - 1, k, s.matches(k - 1, k, 150, 0.002));
+  const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.verticesFixed, 2);
+  EXPECT_TRUE(bitIdentical(g.pose(4), s.truth(4)));
+  EXPECT_LT(maxError(g, s, range(0, 8)).translation, 0.001);
+}
+
+// --- degenerate and bad input --------------------------------------------------------------
+
+TEST(LocalOptimizer, SingleKeyframeOrNoEdgesChangesNothing) {
+  Scene s(3);
+  KeyframeGraph g;
+  g.addKeyframe(makeKeyframe(0), s.perturbed(0));
+  const LocalOptimizer opt(paperOptions());
+  auto r = opt.optimize(g, 0);
+  EXPECT_EQ(r.status, LocalOptimizationReport::Status::NothingToOptimise);
+  EXPECT_FALSE(r.usable);
+  EXPECT_EQ(r.verticesOptimised, 0);
+  EXPECT_FALSE(r.message.empty());
+
+  g.addKeyframe(makeKeyframe(1), s.perturbed(1));
+  g.addKeyframe(makeKeyframe(2), s.perturbed(2));
+  const auto before = g.poses();
+  for (const auto& report : {opt.optimize(g, 2), opt.optimizeAll(g)}) {
+    EXPECT_EQ(report.status, LocalOptimizationReport::Status::NothingToOptimise);
+    EXPECT_FALSE(report.usable);
+    EXPECT_EQ(report.edges, 0);
+  }
+  const auto after = g.poses();
+  for (const auto& [id, p] : before) EXPECT_TRUE(bitIdentical(p, after.at(id)));
+
+  r = opt.optimize(g, 42);  // unknown root
+  EXPECT_EQ(r.status, LocalOptimizationReport::Status::Failed);
+  EXPECT_FALSE(r.usable);
+}
+
+TEST(LocalOptimizer, NonFiniteMatchesAreSkippedAndCounted) {
+  Scene s(6);
+  KeyframeGraph g;
+  buildChain(g, s, 2, 150, range(2, 6));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d ok(0.1, 0.2, 2.0);
+  g.addMatches(4, 5, {{Eigen::Vector3d(nan, 0, 1), ok, 1.0},
+                      {ok, Eigen::Vector3d(0, inf, 1), 1.0},
+                      {ok, ok, nan},
+                      {ok, ok, -0.5}});
+  const auto r = LocalOptimizer(paperOptions(10)).optimize(g, 5);
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.invalidMatches, 4);
+  EXPECT_EQ(r.residuals, 9 * 150);
+  EXPECT_TRUE(std::isfinite(r.finalCost));
+  for (const auto& [id, p] : g.poses()) EXPECT_TRUE(isValidPose(p)) << id;
+  // Root 5 was on ground truth and is fixed (all within R-1 rings).
+  EXPECT_LT(maxError(g, s, range(0, 6)).translation, 0.001);
+}
+
+TEST(LocalOptimizer, EdgeWithOnlyInvalidMatchesIsLeftOut) {
+  Scene s(3);
+  KeyframeGraph g;
+  buildChain(g, s, 1, 100, {1, 2});
+  g.addKeyframe(makeKeyframe(3), s.perturbed(0));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  g.addMatches(2, 3, {{Eigen::Vector3d(nan, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0}});
+  const Pose lonely = g.pose(3);
+  const auto r = LocalOptimizer(paperOptions(10)).optimize(g, 3);
+  // Keyframe 3's only edge is unusable: the rest is a component without the root, whose
+  // smallest id (0) becomes the gauge.
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_EQ(r.invalidMatches, 1);
+  EXPECT_EQ(r.verticesFixed, 1);
+  EXPECT_EQ(r.verticesOptimised, 2);
+  EXPECT_TRUE(bitIdentical(lonely, g.pose(3)));
+  EXPECT_TRUE(bitIdentical(s.truth(0), g.pose(0)));
+  EXPECT_LT(maxError(g, s, {1, 2}).translation, 0.001);
+}
+
+TEST(LocalOptimizer, FailedSolveLeavesTheGraphUnchanged) {
+  // Finite but absurd coordinates overflow the cost: the solver must fail and write nothing.
+  Scene s(4);
+  KeyframeGraph g;
+  buildChain(g, s, 1, 50, range(0, 4));
+  g.addMatches(2, 3, {{Eigen::Vector3d(1e200, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0}});
+  const auto before = g.poses();
+  const auto r = LocalOptimizer(paperOptions()).optimize(g, 3);
+  std::cout << r.toString() << "\n";
+  EXPECT_EQ(r.status, LocalOptimizationReport::Status::Failed);
+  EXPECT_FALSE(r.usable);
+  const auto after = g.poses();
+  for (const auto& [id, p] : before) EXPECT_TRUE(bitIdentical(p, after.at(id))) << id;
+}
+
+TEST(LocalOptimizer, SameGraphGivesBitIdenticalResults) {
+  std::map<KeyframeId, Pose> results[2];
+  for (auto& result : results) {
+    Scene s(10, 3);
+    KeyframeGraph g;
+    buildChain(g, s, 3, 120, range(0, 10));
+    LocalOptimizer(LocalOptimizerOptions{}).optimize(g, 9);
+    result = g.poses();
+  }
+  for (const auto& [id, p] : results[0]) EXPECT_TRUE(bitIdentical(p, results[1].at(id))) << id;
+}
+
+// --- concurrency -------------------------------------------------------------------------
+
+TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
+  constexpr int kStart = 8, kTotal = 40;
+  Scene s(kTotal, 5);
+  // Pre-compute the matches so the threads only touch the graph.
+  std::vector<std::vector<PointMatch>> prev1(kTotal), prev2(kTotal);
+  for (int k = 1; k < kTotal; ++k) {
+    prev1[k] = s.matches(k - 1, k, 100, 0.002);
+    if (k >= 2) prev2[k] = s.matches(k - 2, k, 100, 0.002);
+  }
+  KeyframeGraph g;
+  auto add = [&](int k) {
+    g.addKeyframe(makeKeyframe(k), k == 0 ? s.truth(0) : s.perturbed(k));
+    if (k >= 1) g.addMatches(k - 1, k, prev1[k]);
+    if (k >= 2) g.addMatches(k - 2, k, prev2[k]);
+  };
+  for (int k = 0; k < kStart; ++k) add(k);
+
+  std::atomic<bool> done{false};
+  std::atomic<int> runs{0}, badReports{0}, badPoses{0};
+  std::thread optimizer([&] {
+    const LocalOptimizer opt(LocalOptimizerOptions{});
+    while (!done) {
+      const auto r = opt.optimize(g, g.ids().back());
+      if (!r.usable || r.maxTranslationChange > 0.2) {
+        if (badReports++ == 0) std::cout << "bad report: " << r.toString() << "\n";
+      }
+      ++runs;
+    }
+  });
+  std::thread reader([&] {
+    while (!done) {
+      const auto ids = g.ids();
+      if (!isValidPose(g.pose(ids[ids.size() / 2]))) ++badPoses;
+      for (const auto& kv : g.poses())
+        if (!isValidPose(kv.second)) ++badPoses;
+    }
+  });
+  for (int k = kStart; k < kTotal; ++k) {  // the "tracker"
+    add(k);
+    (void)g.pose(k - 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(3));
+  }
+  while (runs < 20) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  done = true;
+  optimizer.join();
+  reader.join();
+
+  std::cout << runs << " concurrent optimisations\n";
+  EXPECT_EQ(badReports, 0);
+  EXPECT_EQ(badPoses, 0);
+  EXPECT_EQ(g.keyframeCount(), static_cast<size_t>(kTotal));
+  const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
+  ASSERT_TRUE(r.usable) << r.toString();
+  EXPECT_LT(maxError(g, s, range(0, kTotal)).translation, 0.002);
+}
+
+// --- timing (printed, not asserted) ---------------------------------------------------------
+
+TEST(LocalOptimizer, TimingOnRealisticLocalProblems) {
+  // Grows a map like the tracker would: each keyframe matches its 4 predecessors and sometimes
+  // an older one (revisits), 200 matches per edge; optimises from each new keyframe (R = 3).
+  constexpr int kTotal = 60;
+  Scene s(kTotal, 9);
+  KeyframeGraph g;
+  std::uniform_real_distribution<double> u(0, 1);
+  const LocalOptimizer opt(LocalOptimizerOptions{});
+  std::vector<double> ms;
+  std::vector<int> sizes;
+  double meanResiduals = 0;
+  for (int k = 0; k < kTotal; ++k) {
+    g.addKeyframe(makeKeyframe(k), k == 0 ? s.truth(0) : s.perturbed(k));
+    for (int d = 1; d <= 4 && k - d >= 0; ++d) g.addMatches(k - d, k, s.matches(k - d, k, 200, 0.005));
+    if (k >= 10 && u(s.rng()) < 0.4) {
+      const int old = k - 6 - static_cast<int>(u(s.rng()) * 4);
+      auto m = s.matches(old, k, 200, 0.005);
+      if (m.size() >= 50) g.addMatches(old, k, m);
+    }
+    if (k < 12) continue;  // time the steady state only
+    const auto r = opt.optimize(g, k);
+    ASSERT_TRUE(r.usable) << r.toString();
+    ms.push_back(r.timeMs);
+    sizes.push_back(r.verticesOptimised + r.verticesFixed);
+    meanResiduals += r.residuals;
+  }
+  meanResiduals /= ms.size();
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  std::cout << "local optimisation over " << ms.size() << " problems of "
+            << *std::min_element(sizes.begin(), sizes.end()) << "-"
+            << *std::max_element(sizes.begin(), sizes.end()) << " keyframes, " << meanResiduals
+            << " residuals on average: median " << sorted[sorted.size() / 2] << " ms, max "
+            << sorted.back() << " ms\n";
+  const PoseError e = maxError(g, s, range(0, kTotal));
+  std::cout << "  map error after the run: " << e.translation * 1000 << " mm " << e.rotationDeg
+            << " deg\n";
+  EXPECT_LT(e.translation, 0.01);
+}
+
+// --- options ------------------------------------------------------------------------------
+
+TEST(LocalOptimizerOptions, IniRoundTrip) {
+  LocalOptimizerOptions o;
+  o.rings = 4;
+  o.robustLoss = RobustLoss::Cauchy;
+  o.robustLossScale = 0.05;
+  o.maxIterations = 7;
+  o.functionTolerance = 1e-5;
+  o.numThreads = 2;
+  o.minWeight = 0.25;
+  o.maxSolverTimeMs = 80;
+  mrpt::config::CConfigFileMemory cfg;
+  o.saveToConfigFile(cfg, "optimizer");
+  LocalOptimizerOptions back;
+  back.loadFromConfigFile(cfg, "optimizer");
+  EXPECT_EQ(back.rings, 4);
+  EXPECT_EQ(back.robustLoss, RobustLoss::Cauchy);
+  EXPECT_DOUBLE_EQ(back.robustLossScale, 0.05);
+  EXPECT_EQ(back.maxIterations, 7);
+  EXPECT_DOUBLE_EQ(back.functionTolerance, 1e-5);
+  EXPECT_EQ(back.numThreads, 2);
+  EXPECT_DOUBLE_EQ(back.minWeight, 0.25);
+  EXPECT_DOUBLE_EQ(back.maxSolverTimeMs, 80);
+}
+
+TEST(LocalOptimizerOptions, DefaultsAndPartialSection) {
+  mrpt::config::CConfigFileMemory cfg("[optimizer]\nrobust_loss = NONE\n");
+  LocalOptimizerOptions o;
+  o.loadFromConfigFile(cfg, "optimizer");
+  EXPECT_EQ(o.robustLoss, RobustLoss::None);
+  EXPECT_EQ(o.rings, 3);  // paper Table 3
+  EXPECT_EQ(o.numThreads, 1);
+}
+
+TEST(LocalOptimizerOptions, UnknownKeyAndBadValuesAreNamed) {
+  auto load = [](const std::string& text) {
+    mrpt::config::CConfigFileMemory cfg(text);
+    LocalOptimizerOptions o;
+    o.loadFromConfigFile(cfg, "optimizer");
+  };
+  try {
+    load("[optimizer]\nrings = 3\nring = 4\n");
+    FAIL() << "misspelled key accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ring"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("optimizer"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load("[optimizer]\nrobust_loss = tukey\n"), std::invalid_argument);
+  EXPECT_THROW(load("[optimizer]\nrings = 0\n"), std::invalid_argument);
+  EXPECT_THROW(load("[optimizer]\nmax_iterations = 0\n"), std::invalid_argument);
+  EXPECT_THROW(load("[optimizer]\nrobust_loss_scale = -1\n"), std::invalid_argument);
+  EXPECT_THROW(load("[optimizer]\nmin_weight = -0.1\n"), std::invalid_argument);
+  LocalOptimizerOptions bad;
+  bad.rings = 0;
+  EXPECT_THROW(LocalOptimizer{bad}, std::invalid_argument);
+}
