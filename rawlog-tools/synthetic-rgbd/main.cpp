@@ -50,6 +50,11 @@ int main(int argc, char** argv) {
         "standard deviation (metres) of Gaussian noise added to every valid depth (default 0 = "
         "exact depth)",
         false, 0.0, "SIGMA", cmd);
+    TCLAP::ValueArg<int> argSupersampling(
+        "", "supersampling",
+        "colour anti-aliasing: render K x K samples per pixel and average them (odd K: 1 = off, "
+        "3 = default); depth is always the exact z at the pixel centre",
+        false, 3, "K", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
     if (!cmd.parse(argc, argv)) {
       // MRPT's TCLAP returns false (instead of exiting) both after printing --help/--version
@@ -68,6 +73,7 @@ int main(int argc, char** argv) {
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
     opts.externalImages = argExternal.getValue();
+    opts.supersampling = argSupersampling.getValue();
     opts.validate();  // a clear error before any rendering or file output
 
     const bool quiet = argQuiet.getValue();

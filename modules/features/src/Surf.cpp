@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 #include "SurfDescriptor.h"
 #include "SurfHessian.h"
@@ -11,6 +12,9 @@
 
 namespace slamdunk {
 namespace {
+
+// Keypoints per parallel task when describing: a few microseconds each.
+constexpr int kKeypointsPerTask = 16;
 
 /// 8-bit single-channel view or copy of the input; throws cv::Exception for what SURF cannot use.
 cv::Mat toGray8(const cv::Mat& image) {
@@ -67,7 +71,8 @@ void removeUndescribable(std::vector<cv::KeyPoint>& keypoints, const cv::Size& i
 }  // namespace
 
 Surf::Surf(const Params& params) : params_(params) {
-  CV_Assert(params.nOctaves >= 1 && params.nOctaveLayers >= 1);
+  CV_Assert(params.nOctaves >= 1 && params.nOctaves <= 16);
+  CV_Assert(params.nOctaveLayers >= 1 && params.nOctaveLayers <= 16);
   CV_Assert(params.hessianThreshold >= 0.0 && params.maxKeypoints >= 0);
   CV_Assert(params.maxInterpolationOffset > 0.0);
 }
@@ -77,13 +82,13 @@ cv::Ptr<Surf> Surf::create(const Params& params) { return cv::makePtr<Surf>(para
 void Surf::detectAndCompute(cv::InputArray image, cv::InputArray mask,
                             std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
                             bool useProvidedKeypoints) {
-  const cv::Mat gray = toGray8(image.getMat());
-  const cv::Mat maskMat = checkedMask(mask.getMat(), gray.size());
-  if (gray.empty()) {
+  if (image.empty()) {
     keypoints.clear();
     if (descriptors.needed()) descriptors.release();
     return;
   }
+  const cv::Mat gray = toGray8(image.getMat());
+  const cv::Mat maskMat = checkedMask(mask.getMat(), gray.size());
   Workspace& workspace = threadWorkspace();
   const surf::IntegralImage integral(gray, workspace.integral);
 
@@ -110,15 +115,19 @@ void Surf::detectAndCompute(cv::InputArray image, cv::InputArray mask,
     desc = descriptors.getMat();
   }
   // Every keypoint writes only its own angle and descriptor row: deterministic in parallel.
-  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& r) {
-    for (int i = r.start; i < r.end; ++i) {
-      cv::KeyPoint& kp = keypoints[i];
-      kp.angle = params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
-      if (!desc.empty()) {
-        surf::computeDescriptor(integral, kp, params_.extended, desc.ptr<float>(i));
-      }
-    }
-  });
+  const double stripes = std::ceil(n / static_cast<double>(kKeypointsPerTask));
+  cv::parallel_for_(
+      cv::Range(0, n),
+      [&](const cv::Range& r) {
+        for (int i = r.start; i < r.end; ++i) {
+          cv::KeyPoint& kp = keypoints[i];
+          kp.angle = params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
+          if (!desc.empty()) {
+            surf::computeDescriptor(integral, kp, params_.extended, desc.ptr<float>(i));
+          }
+        }
+      },
+      stripes);
 }
 
 }  // namespace slamdunk

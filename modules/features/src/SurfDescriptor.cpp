@@ -60,6 +60,20 @@ const std::array<float, kSamples * kSamples>& descriptorWeights() {
   return weights;
 }
 
+/// atan2(y, x) in degrees, [0, 360]; error below 0.001 degree (Abramowitz & Stegun 4.4.49), far
+/// finer than the 5-degree bins. Inline because it runs for every orientation sample.
+inline float atan2Degrees(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float t = std::min(ax, ay) / std::max(std::max(ax, ay), 1e-30f);  // in [0, 1]
+  const float t2 = t * t;
+  float r = t * (0.9998660f +
+                 t2 * (-0.3302995f + t2 * (0.1801410f + t2 * (-0.0851330f + t2 * 0.0208351f))));
+  if (ay > ax) r = static_cast<float>(CV_PI / 2) - r;
+  if (x < 0.f) r = static_cast<float>(CV_PI) - r;
+  if (y < 0.f) r = static_cast<float>(2 * CV_PI) - r;
+  return r * static_cast<float>(180.0 / CV_PI);
+}
+
 /// IntegralImage::haar centres its wavelet on a pixel corner, i.e. at (cx - 0.5, cy - 0.5) in
 /// pixel-centre coordinates: adding 0.5 before rounding keeps the wavelet centred on p.
 inline int cornerIndex(float p) { return cvRound(p + 0.5f); }
@@ -94,15 +108,27 @@ void normalise(float* v, int n) {
 float dominantOrientation(const IntegralImage& integral, const cv::KeyPoint& kp) {
   const float s = scaleOfSize(kp.size);
   const int half = std::max(1, cvRound(2.f * s));  // wavelet side 4s
+  if (!integral.fits(half)) return 0.f;
+  // The samples lie on an axis-aligned grid: round and clamp its columns and rows once.
+  constexpr int kSide = 2 * kOriRadius + 1;
+  std::array<int, kSide> cols;
+  std::array<const uint32_t*, kSide> top, mid, bot;
+  for (int i = 0; i < kSide; ++i) {
+    cols[i] = integral.clampCol(cornerIndex(kp.pt.x + (i - kOriRadius) * s), half);
+    const int cy = integral.clampRow(cornerIndex(kp.pt.y + (i - kOriRadius) * s), half);
+    top[i] = integral.row(cy - half);
+    mid[i] = integral.row(cy);
+    bot[i] = integral.row(cy + half);
+  }
   std::array<float, kOriBins> binX{}, binY{};
   for (const OrientationSample& sample : orientationSamples()) {
+    const int r = sample.j + kOriRadius;
     float dx, dy;
-    integral.haar(cornerIndex(kp.pt.x + sample.i * s), cornerIndex(kp.pt.y + sample.j * s), half,
-                  dx, dy);
+    IntegralImage::haarInside(top[r], mid[r], bot[r], cols[sample.i + kOriRadius], half, dx, dy);
     if (dx == 0.f && dy == 0.f) continue;
     dx *= sample.weight;
     dy *= sample.weight;
-    const int bin = std::min(static_cast<int>(cv::fastAtan2(dy, dx) / kOriBinDeg), kOriBins - 1);
+    const int bin = std::min(static_cast<int>(atan2Degrees(dy, dx) / kOriBinDeg), kOriBins - 1);
     binX[bin] += dx;
     binY[bin] += dy;
   }
@@ -146,21 +172,47 @@ void computeDescriptor(const IntegralImage& integral, const cv::KeyPoint& kp, bo
   const float originX = kp.pt.x - c * (ux + vx);
   const float originY = kp.pt.y - c * (uy + vy);
 
+  // 1. Haar responses of the 20 x 20 samples, in the image frame.
+  std::array<float, kSamples * kSamples> dx{}, dy{};
+  if (integral.fits(half) && kp.angle < 0.f) {
+    // Upright: columns and rows of the grid are fixed, so round and clamp them once (same
+    // result as the general path, which clamps each coordinate independently too).
+    std::array<int, kSamples> cols;
+    for (int k = 0; k < kSamples; ++k) {
+      cols[k] = integral.clampCol(cornerIndex(originX + k * ux), half);
+    }
+    for (int m = 0; m < kSamples; ++m) {
+      const int cy = integral.clampRow(cornerIndex(originY + m * vy), half);
+      const uint32_t* top = integral.row(cy - half);
+      const uint32_t* mid = integral.row(cy);
+      const uint32_t* bot = integral.row(cy + half);
+      for (int k = 0; k < kSamples; ++k) {
+        IntegralImage::haarInside(top, mid, bot, cols[k], half, dx[m * kSamples + k],
+                                  dy[m * kSamples + k]);
+      }
+    }
+  } else {
+    for (int m = 0; m < kSamples; ++m) {
+      const float rowX = originX + m * vx;
+      const float rowY = originY + m * vy;
+      for (int k = 0; k < kSamples; ++k) {
+        integral.haar(cornerIndex(rowX + k * ux), cornerIndex(rowY + k * uy), half,
+                      dx[m * kSamples + k], dy[m * kSamples + k]);
+      }
+    }
+  }
+
+  // 2. Rotate them into the keypoint frame, weight them and sum them per cell.
   const int valuesPerCell = extended ? 8 : 4;
   const int length = kCells * kCells * valuesPerCell;
   std::fill(out, out + length, 0.f);
   const auto& weights = descriptorWeights();
   for (int m = 0; m < kSamples; ++m) {
-    const float rowX = originX + m * vx;
-    const float rowY = originY + m * vy;
     float* cellRow = out + (m / kCellSamples) * kCells * valuesPerCell;
     for (int k = 0; k < kSamples; ++k) {
-      float dx, dy;
-      integral.haar(cornerIndex(rowX + k * ux), cornerIndex(rowY + k * uy), half, dx, dy);
-      const float w = weights[m * kSamples + k];
-      // Express the image-axis responses in the keypoint's rotated frame.
-      const float du = w * (dx * cosA + dy * sinA);
-      const float dv = w * (dy * cosA - dx * sinA);
+      const int i = m * kSamples + k;
+      const float du = weights[i] * (dx[i] * cosA + dy[i] * sinA);
+      const float dv = weights[i] * (dy[i] * cosA - dx[i] * sinA);
       accumulate(du, dv, extended, cellRow + (k / kCellSamples) * valuesPerCell);
     }
   }

@@ -33,22 +33,28 @@ class IntegralImage {
   /// wavelet stays inside the image (edge replication in effect, no fake border edges);
   /// both are 0 if the image is smaller than the wavelet.
   void haar(int cx, int cy, int h, float& dx, float& dy) const {
-    if (2 * h > cols_ || 2 * h > rows_) {
+    if (!fits(h)) {
       dx = dy = 0.f;
       return;
     }
-    cx = std::clamp(cx, h, cols_ - h);
-    cy = std::clamp(cy, h, rows_ - h);
-    const uint32_t* top = row(cy - h);
-    const uint32_t* mid = row(cy);
-    const uint32_t* bot = row(cy + h);
+    cy = clampRow(cy, h);
+    haarInside(row(cy - h), row(cy), row(cy + h), clampCol(cx, h), h, dx, dy);
+  }
+
+  bool fits(int h) const { return 2 * h <= cols_ && 2 * h <= rows_; }
+  int clampCol(int cx, int h) const { return std::clamp(cx, h, cols_ - h); }
+  int clampRow(int cy, int h) const { return std::clamp(cy, h, rows_ - h); }
+
+  /// haar() for a wavelet known to be inside, given the table rows cy - h, cy and cy + h.
+  static void haarInside(const uint32_t* top, const uint32_t* mid, const uint32_t* bot, int cx,
+                         int h, float& dx, float& dy) {
     const uint32_t left = bot[cx - h] - top[cx - h];
     const uint32_t centreCol = bot[cx] - top[cx];
     const uint32_t right = bot[cx + h] - top[cx + h];
     dx = static_cast<float>(static_cast<int32_t>(right - 2u * centreCol + left));
-    const uint32_t topRow = mid[cx + h] - mid[cx - h] - (top[cx + h] - top[cx - h]);
+    const uint32_t topHalf = mid[cx + h] - mid[cx - h] - (top[cx + h] - top[cx - h]);
     const uint32_t all = bot[cx + h] - bot[cx - h] - (top[cx + h] - top[cx - h]);
-    dy = static_cast<float>(static_cast<int32_t>(all - 2u * topRow));
+    dy = static_cast<float>(static_cast<int32_t>(all - 2u * topHalf));
   }
 
  private:

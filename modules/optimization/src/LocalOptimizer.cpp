@@ -1,7 +1,7 @@
 #include <slamdunk/optimization/LocalOptimizer.h>
 
+#include "BundleAdjuster.h"
 #include "LocalProblem.h"
-#include "PoseProblem.h"
 
 #include <chrono>
 #include <cmath>
@@ -32,21 +32,17 @@ LocalOptimizationReport solveAndWriteBack(KeyframeGraph& graph, const LocalProbl
     return r;
   }
 
-  PoseProblem problem(p, o);
-  const ceres::Solver::Summary summary = problem.solve(o);
-  // Ceres' cost is ½ Σ ρ; report the paper's Σ.
-  r.initialCost = 2 * summary.initial_cost;
-  r.finalCost = 2 * summary.final_cost;
-  r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
-  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  const BundleAdjustmentResult result = BundleAdjuster(o).solve(p);
+  r.initialCost = result.initialCost;
+  r.finalCost = result.finalCost;
+  r.iterations = result.iterations;
+  r.rounds = result.rounds;
   r.status = LocalOptimizationReport::Status::Failed;
-  if (!summary.IsSolutionUsable() || !std::isfinite(r.finalCost)) {
-    r.message = "solver failed: " + summary.message;
+  if (!result.usable) {
+    r.message = "solver failed: " + result.message;
     return r;
   }
-
-  const std::map<KeyframeId, Pose> optimised = problem.freePoses();
-  for (const auto& [id, pose] : optimised) {
+  for (const auto& [id, pose] : result.freePoses) {
     if (!isValidPose(pose)) {
       r.message = "solver returned an invalid pose for keyframe " + std::to_string(id);
       return r;
@@ -56,10 +52,11 @@ LocalOptimizationReport solveAndWriteBack(KeyframeGraph& graph, const LocalProbl
     r.maxRotationChangeDeg =
         std::max(r.maxRotationChangeDeg, rotationDistance(before, pose) * 180.0 / M_PI);
   }
-  graph.setPoses(optimised);
+  graph.setPoses(result.freePoses);
   r.status = LocalOptimizationReport::Status::Optimised;
+  r.converged = result.converged;
   r.usable = true;
-  r.message = summary.message;
+  r.message = result.message;
   return r;
 }
 }  // namespace

@@ -26,6 +26,16 @@ std::string toString(RobustLoss loss) {
   return "?";
 }
 
+ResidualForm residualFormFromString(const std::string& name) {
+  std::string n = name;
+  std::transform(n.begin(), n.end(), n.begin(), ::tolower);
+  if (n == "edge") return ResidualForm::Edge;
+  if (n == "match") return ResidualForm::Match;
+  throw std::invalid_argument("unknown residual form '" + name + "' (choose edge or match)");
+}
+
+std::string toString(ResidualForm form) { return form == ResidualForm::Edge ? "edge" : "match"; }
+
 void LocalOptimizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& section) {
   IniSectionReader r(cfg, section);
@@ -37,6 +47,8 @@ void LocalOptimizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
   numThreads = r.readInt("num_threads", numThreads);
   minWeight = r.readDouble("min_weight", minWeight);
   maxSolverTimeMs = r.readDouble("max_solver_time_ms", maxSolverTimeMs);
+  residualForm = residualFormFromString(r.readString("residual_form", toString(residualForm)));
+  irlsMaxRounds = r.readInt("irls_max_rounds", irlsMaxRounds);
   r.rejectUnknownKeys();
   validate(section);
 }
@@ -51,6 +63,8 @@ void LocalOptimizerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(section, "num_threads", numThreads);
   cfg.write(section, "min_weight", minWeight);
   cfg.write(section, "max_solver_time_ms", maxSolverTimeMs);
+  cfg.write(section, "residual_form", toString(residualForm));
+  cfg.write(section, "irls_max_rounds", irlsMaxRounds);
 }
 
 void LocalOptimizerOptions::validate(const std::string& section) const {
@@ -64,6 +78,7 @@ void LocalOptimizerOptions::validate(const std::string& section) const {
   if (!(functionTolerance >= 0)) fail("function_tolerance must be >= 0");
   if (numThreads < 1) fail("num_threads must be >= 1");
   if (!(minWeight >= 0)) fail("min_weight must be >= 0");
+  if (irlsMaxRounds < 1) fail("irls_max_rounds must be >= 1");
   if (!(maxSolverTimeMs >= 0)) fail("max_solver_time_ms must be >= 0 (0 = no cap)");
 }
 

@@ -15,42 +15,56 @@ namespace {
 
 using mrpt::math::TPoint3Df;
 
+// Every random draw is a statement of its own (or inside a braced list, which is evaluated left
+// to right): C++ leaves the order of function arguments unspecified, and the textures must not
+// depend on the compiler.
+
 cv::Scalar randomColour(cv::RNG& rng) {
   // Independent channels over the full range: neighbouring shapes differ strongly in both
   // brightness and hue, which is what corner and blob detectors respond to.
-  return cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
+  const double b = rng.uniform(0, 256), g = rng.uniform(0, 256), r = rng.uniform(0, 256);
+  return {b, g, r};
 }
 
-cv::Point randomPoint(cv::RNG& rng, int w, int h) { return {rng.uniform(0, w), rng.uniform(0, h)}; }
+cv::Point randomPoint(cv::RNG& rng, int w, int h) {
+  const int x = rng.uniform(0, w), y = rng.uniform(0, h);
+  return {x, y};
+}
 
-void drawRotatedRect(cv::Mat& img, cv::RNG& rng, int minSize, int maxSize, bool filled) {
+void drawRotatedRect(cv::Mat& img, cv::RNG& rng, int minSize, int maxSize) {
   const cv::Point2f c = randomPoint(rng, img.cols, img.rows);
-  const cv::Size2f s(float(rng.uniform(minSize, maxSize)), float(rng.uniform(minSize, maxSize)));
+  const float sx = float(rng.uniform(minSize, maxSize)), sy = float(rng.uniform(minSize, maxSize));
   // Mostly axis-aligned (like posters and tiles) but some rotated ones too.
   const float angle = rng.uniform(0, 3) == 0 ? rng.uniform(0.f, 180.f) : 0.f;
+  const bool filled = rng.uniform(0, 4) > 0;
+  const int thickness = rng.uniform(1, 4);
+  const cv::Scalar colour = randomColour(rng);
   cv::Point2f corners[4];
-  cv::RotatedRect(c, s, angle).points(corners);
+  cv::RotatedRect(c, cv::Size2f(sx, sy), angle).points(corners);
   std::vector<cv::Point> poly(corners, corners + 4);
   if (filled)
-    cv::fillConvexPoly(img, poly, randomColour(rng), cv::LINE_AA);
+    cv::fillConvexPoly(img, poly, colour, cv::LINE_AA);
   else
-    cv::polylines(img, poly, true, randomColour(rng), rng.uniform(1, 4), cv::LINE_AA);
+    cv::polylines(img, poly, true, colour, thickness, cv::LINE_AA);
 }
 
 void drawEllipse(cv::Mat& img, cv::RNG& rng, int minSize, int maxSize) {
   const cv::Point c = randomPoint(rng, img.cols, img.rows);
-  const cv::Size axes(rng.uniform(minSize, maxSize) / 2 + 1, rng.uniform(minSize, maxSize) / 2 + 1);
+  const int ax = rng.uniform(minSize, maxSize) / 2 + 1, ay = rng.uniform(minSize, maxSize) / 2 + 1;
   const int thickness = rng.uniform(0, 3) == 0 ? rng.uniform(1, 4) : cv::FILLED;
-  cv::ellipse(img, c, axes, rng.uniform(0.0, 180.0), 0, 360, randomColour(rng), thickness,
-              cv::LINE_AA);
+  const double angle = rng.uniform(0.0, 180.0);
+  const cv::Scalar colour = randomColour(rng);
+  cv::ellipse(img, c, cv::Size(ax, ay), angle, 0, 360, colour, thickness, cv::LINE_AA);
 }
 
 void drawLine(cv::Mat& img, cv::RNG& rng, int minLen, int maxLen) {
   const cv::Point a = randomPoint(rng, img.cols, img.rows);
   const double angle = rng.uniform(0.0, 2 * M_PI);
   const double len = rng.uniform(minLen, maxLen);
+  const int thickness = rng.uniform(1, 5);
+  const cv::Scalar colour = randomColour(rng);
   const cv::Point b(a.x + int(len * std::cos(angle)), a.y + int(len * std::sin(angle)));
-  cv::line(img, a, b, randomColour(rng), rng.uniform(1, 5), cv::LINE_AA);
+  cv::line(img, a, b, colour, thickness, cv::LINE_AA);
 }
 
 void drawText(cv::Mat& img, cv::RNG& rng, double minScale, double maxScale) {
@@ -62,8 +76,11 @@ void drawText(cv::Mat& img, cv::RNG& rng, double minScale, double maxScale) {
   const int len = rng.uniform(2, 9);
   for (int i = 0; i < len; ++i) text += alphabet[rng.uniform(0, int(sizeof(alphabet) - 1))];
   const double scale = rng.uniform(minScale, maxScale);
-  cv::putText(img, text, randomPoint(rng, img.cols, img.rows), fonts[rng.uniform(0, 6)], scale,
-              randomColour(rng), std::max(1, int(scale * rng.uniform(0.8, 2.5))), cv::LINE_AA);
+  const cv::Point origin = randomPoint(rng, img.cols, img.rows);
+  const int font = fonts[rng.uniform(0, int(fonts.size()))];
+  const cv::Scalar colour = randomColour(rng);
+  const int thickness = std::max(1, int(scale * rng.uniform(0.8, 2.5)));
+  cv::putText(img, text, origin, font, scale, colour, thickness, cv::LINE_AA);
 }
 
 /// One textured rectangle: p00..p01 get texture coordinates (0,0), (1,0), (1,1), (0,1), with
@@ -156,10 +173,9 @@ cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed) {
   // every surface. Large shapes first so smaller ones land on top of them.
   const double area = double(w) * h;
   const int unit = std::max(8, std::min(w, h) / 16);  // "large" shape size in texels
-  for (int i = 0; i < int(area / 60000); ++i) drawRotatedRect(tex, rng, unit, 4 * unit, true);
+  for (int i = 0; i < int(area / 60000); ++i) drawRotatedRect(tex, rng, unit, 4 * unit);
   for (int i = 0; i < int(area / 60000); ++i) drawEllipse(tex, rng, unit, 3 * unit);
-  for (int i = 0; i < int(area / 8000); ++i)
-    drawRotatedRect(tex, rng, 8, 50, rng.uniform(0, 4) > 0);
+  for (int i = 0; i < int(area / 8000); ++i) drawRotatedRect(tex, rng, 8, 50);
   for (int i = 0; i < int(area / 8000); ++i) drawEllipse(tex, rng, 6, 40);
   for (int i = 0; i < int(area / 10000); ++i) drawLine(tex, rng, 20, 250);
   for (int i = 0; i < int(area / 15000); ++i) drawText(tex, rng, 0.6, 2.5);

@@ -20,7 +20,8 @@ Pose cameraPose(const Eigen::Vector3d& position, double yawDeg, double pitchDown
                 Eigen::AngleAxisd(-pitchDownDeg * kDeg, Eigen::Vector3d::UnitX()) *
                 Eigen::AngleAxisd(rollDeg * kDeg, Eigen::Vector3d::UnitZ()))
                    .toRotationMatrix();
-  T.translation() = position;
+  // Snap rounding residue (cos(pi/2) = 6e-17) to zero so the ground-truth file reads cleanly.
+  T.translation() = position.unaryExpr([](double v) { return std::abs(v) < 1e-12 ? 0.0 : v; });
   return T;
 }
 
@@ -41,7 +42,7 @@ Pose sweepPose(double s) {
 /// s in [0, 1] around the loop; every term is periodic in s, so s = 1 gives the pose at s = 0.
 Pose loopPose(double s) {
   const double a = 2 * M_PI * s;     // angle travelled
-  const double phi = -M_PI / 2 + a;  // start at (0, 0, -1), counter-clockwise seen from above
+  const double phi = -M_PI / 2 + a;  // start at (0, 0, -1), heading towards +x
   const double radius = 1.0;
   const Eigen::Vector3d position(radius * std::cos(phi), 0.03 * std::sin(3 * a),
                                  radius * std::sin(phi));

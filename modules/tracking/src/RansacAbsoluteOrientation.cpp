@@ -68,7 +68,8 @@ bool degenerateSample(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 
 RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
                                        const std::vector<Eigen::Vector3d>& dst,
-                                       const RansacOptions& o) {
+                                       const RansacOptions& o,
+                                       const std::vector<double>* refitWeights) {
   RansacResult best;
   const size_t n = src.size();
   best.inliers.assign(n, false);
@@ -116,13 +117,15 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
   size_t count = countInliers(T, src, dst, thr2, &mask);
   for (int refine = 0; refine < 2; ++refine) {
     std::vector<Eigen::Vector3d> si, di;
+    std::vector<double> wi;
     for (size_t i = 0; i < n; ++i)
       if (mask[i]) {
         si.push_back(src[i]);
         di.push_back(dst[i]);
+        if (refitWeights) wi.push_back((*refitWeights)[i]);
       }
     if (si.size() < 3) break;
-    const Pose refined = fitRigidTransform(si, di);
+    const Pose refined = fitRigidTransform(si, di, refitWeights ? &wi : nullptr);
     std::vector<bool> newMask(n);
     const size_t newCount = countInliers(refined, src, dst, thr2, &newMask);
     if (newCount < count) break;

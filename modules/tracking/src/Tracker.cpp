@@ -14,6 +14,12 @@ double msSince(Clock::time_point t) {
 Eigen::Vector2d groundPosition(const Pose& p) {
   return {p.translation().x(), p.translation().z()};
 }
+/// Variance (m²) of a back-projected point at depth z: lateral error of about a pixel plus
+/// Kinect-style depth error growing with z² (Khoshelham & Elberink 2012).
+double depthNoiseVariance(double z) {
+  const double sigma = 0.0015 * z + 0.0015 * z * z;
+  return sigma * sigma + 1e-8;
+}
 }  // namespace
 
 const char* toString(TrackingStatus s) {
@@ -87,13 +93,18 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 
   t = Clock::now();
   std::vector<Eigen::Vector3d> src, dst;
+  std::vector<double> weights;
   src.reserve(matches.size());
   dst.reserve(matches.size());
   for (const PoolMatch& m : matches) {
+    const PoolFeature& f = pool_.feature(m.pool);
     src.push_back(features.points[m.query]);
-    dst.push_back(pool_.feature(m.pool).pointWorld);
+    dst.push_back(f.pointWorld);
+    weights.push_back(1.0 / (depthNoiseVariance(src.back().z()) +
+                             depthNoiseVariance(f.pointKeyframe.z())));
   }
-  const RansacResult ransac = ransacAbsoluteOrientation(src, dst, options_.ransac);
+  const RansacResult ransac = ransacAbsoluteOrientation(
+      src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
   r.timings.ransac = msSince(t);
   if (!ransac.success)
     return lostBecause("only " + std::to_string(ransac.inlierCount) + " RANSAC inliers among " +

@@ -17,6 +17,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   minFeatures = r.readInt("min_features", minFeatures);
   maxTranslationJump = r.readDouble("max_translation_jump", maxTranslationJump);
   keepKeyframeImages = r.readBool("keep_keyframe_images", keepKeyframeImages);
+  weightedRefit = r.readBool("weighted_refit", weightedRefit);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
@@ -69,6 +70,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "min_features", minFeatures);
   cfg.write(s, "max_translation_jump", maxTranslationJump);
   cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
+  cfg.write(s, "weighted_refit", weightedRefit);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

@@ -25,7 +25,8 @@ struct LocalOptimizationReport {
   /// Σ w ρ(‖e‖²) over the residuals (paper Eq. 4 when the robust loss is "none").
   double initialCost = 0;
   double finalCost = 0;
-  int iterations = 0;
+  int iterations = 0;  ///< Levenberg-Marquardt iterations (over all reweighting rounds)
+  int rounds = 0;      ///< reweighting rounds (1 without robust loss or in the match form)
   double timeMs = 0;  ///< wall time of the whole call (selection, assembly, solve, write-back)
   double maxTranslationChange = 0;   ///< metres, largest over the written-back poses
   double maxRotationChangeDeg = 0;   ///< degrees, largest over the written-back poses

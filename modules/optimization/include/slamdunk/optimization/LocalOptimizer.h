@@ -18,6 +18,13 @@ enum class RobustLoss { None, Huber, Cauchy };
 RobustLoss robustLossFromString(const std::string& name);
 std::string toString(RobustLoss loss);
 
+/// How Eq. 4 is handed to Ceres. Edge: one residual per edge built from the matches' weighted
+/// moments (same minimiser and Gauss-Newton steps, cost independent of the match count; robust
+/// losses by reweighting rounds). Match: one residual per match (textbook form, slower).
+enum class ResidualForm { Edge, Match };
+ResidualForm residualFormFromString(const std::string& name);
+std::string toString(ResidualForm form);
+
 struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   int rings = 3;  ///< R (paper Table 3): rings 0..R-1 are free, ring R is held fixed
   /// Huber by default: tracker inliers are mostly within a few cm, so Huber leaves them in its
@@ -30,6 +37,8 @@ struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   int numThreads = 1;       ///< 1 keeps results bit-reproducible
   double minWeight = 0.0;   ///< matches with a smaller weight are dropped (weight 0 always is)
   double maxSolverTimeMs = 0;  ///< 0 = no time cap (a cap makes results timing-dependent)
+  ResidualForm residualForm = ResidualForm::Edge;
+  int irlsMaxRounds = 8;  ///< edge form with a robust loss: cap on reweighting rounds
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

@@ -35,8 +35,11 @@ Pose fitRigidTransform(const std::vector<Eigen::Vector3d>& src,
                        const std::vector<double>* weights = nullptr);
 
 /// src[i] ↔ dst[i]; the threshold's depth term uses src[i].z() (the camera's own depth).
+/// refitWeights (optional, one per pair) weigh the final least-squares fit on the inliers, e.g.
+/// by the inverse variance of the pair's depth noise.
 RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
                                        const std::vector<Eigen::Vector3d>& dst,
-                                       const RansacOptions& options);
+                                       const RansacOptions& options,
+                                       const std::vector<double>* refitWeights = nullptr);
 
 }  // namespace slamdunk

@@ -18,7 +18,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   int edgeMinMatches = 5;      ///< fewer inlier matches with a keyframe make no graph edge
   int minFeatures = 20;        ///< fewer features with depth: the frame cannot be tracked
   double maxTranslationJump = 0.5; ///< metres between consecutive tracked frames (not when lost)
-  bool keepKeyframeImages = true;  ///< store colour+depth in keyframes for dense outputs
+  bool keepKeyframeImages = false; ///< store colour+depth in keyframes for dense outputs
+  bool weightedRefit = true;       ///< final pose fit weighs pairs by their depth noise
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;

@@ -1,0 +1,77 @@
+#include <slamdunk/tracking/FeaturePool.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace slamdunk;
+
+namespace {
+// A keyframe whose features are random unit descriptors at points 2 m in front of it.
+KeyframePtr makeKeyframe(KeyframeId id, const cv::Mat& descriptors) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = id;
+  kf->features.descriptors = descriptors.clone();
+  for (int i = 0; i < descriptors.rows; ++i) {
+    kf->features.keypoints.emplace_back(cv::Point2f(320, 240), 10.f);
+    kf->features.points.emplace_back(0.001 * i, 0, 2.0);
+  }
+  return kf;
+}
+cv::Mat randomDescriptors(int n, unsigned seed) {
+  cv::Mat d(n, 64, CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(d, cv::RNG::NORMAL, 0, 1);
+  for (int i = 0; i < n; ++i) cv::normalize(d.row(i), d.row(i));
+  return d;
+}
+}  // namespace
+
+TEST(FeaturePool, MultiViewRatioUsesSameKeyframeNeighbour) {
+  // The same descriptors seen from two keyframes: a plain ratio test would find d0 ≈ d1 and
+  // reject every match; the multi-view test compares against the same keyframe only.
+  const cv::Mat d = randomDescriptors(200, 1);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
+  graph.addKeyframe(makeKeyframe(1, d), Pose::Identity());
+  FeaturePool pool;
+  CameraIntrinsics K;
+  pool.build(graph, {0, 1}, Pose::Identity(), K);
+  ASSERT_EQ(pool.size(), 400u);
+  cv::Mat query = d.clone();
+  query += 0.01 * randomDescriptors(200, 2);
+  const auto matches = pool.match(query, 0.8);
+  EXPECT_GT(matches.size(), 190u);
+  for (const auto& m : matches) {
+    EXPECT_EQ(pool.feature(m.pool).index, m.query);
+    EXPECT_LT(m.ratio, 0.8);
+  }
+}
+
+TEST(FeaturePool, FrustumFilterDropsPointsBehindTheCentre) {
+  const cv::Mat d = randomDescriptors(50, 3);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
+  Pose turned = Pose::Identity();  // looking backwards: the points are behind it
+  turned.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  FeaturePool pool;
+  pool.build(graph, {0}, turned, CameraIntrinsics());
+  EXPECT_EQ(pool.size(), 0u);
+  pool.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  EXPECT_EQ(pool.size(), 50u);
+}
+
+TEST(FeaturePool, BinaryDescriptorsAndDeterminism) {
+  cv::Mat d(300, 32, CV_8U);
+  cv::RNG rng(5);
+  rng.fill(d, cv::RNG::UNIFORM, 0, 256);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
+  FeaturePool a, b;
+  a.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  b.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  const auto ma = a.match(d, 0.8), mb = b.match(d, 0.8);
+  EXPECT_GT(ma.size(), 250u);
+  ASSERT_EQ(ma.size(), mb.size());
+  for (size_t i = 0; i < ma.size(); ++i) EXPECT_EQ(ma[i].pool, mb[i].pool);
+}

@@ -1,0 +1,42 @@
+#include <slamdunk/tracking/TrackerOptions.h>
+
+#include "TestData.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+using namespace slamdunk;
+
+TEST(TrackerOptions, DefaultIniHasTable3Values) {
+  mrpt::config::CConfigFile cfg(test::sourceDir() + "/config-ini/slamdunk-default.ini");
+  TrackerOptions o;
+  o.loadFromConfigFile(cfg, "tracker");
+  EXPECT_DOUBLE_EQ(o.windowSize, 5.0);   // W
+  EXPECT_DOUBLE_EQ(o.windowShift, 0.25); // T = 5% W
+  EXPECT_DOUBLE_EQ(o.ratioThreshold, 0.8);
+  EXPECT_EQ(o.keyframes.gridCols, 4);
+  EXPECT_EQ(o.keyframes.gridRows, 4);
+  EXPECT_EQ(o.keyframes.minInliersPerCell, 1);
+  EXPECT_DOUBLE_EQ(o.keyframes.minOverlap, 0.8);
+  EXPECT_EQ(o.loopHopThreshold, 3);
+}
+
+TEST(TrackerOptions, RoundTripAndErrors) {
+  TrackerOptions a;
+  a.windowSize = 3.5;
+  a.ransac.seed = 99;
+  a.keyframes.gridCols = 6;
+  mrpt::config::CConfigFileMemory mem;
+  a.saveToConfigFile(mem, "tracker");
+  TrackerOptions b;
+  b.loadFromConfigFile(mem, "tracker");
+  EXPECT_DOUBLE_EQ(b.windowSize, 3.5);
+  EXPECT_EQ(b.ransac.seed, 99u);
+  EXPECT_EQ(b.keyframes.gridCols, 6);
+
+  mrpt::config::CConfigFileMemory typo("[tracker]\nwindow_sise = 4\n");
+  EXPECT_THROW(b.loadFromConfigFile(typo, "tracker"), std::invalid_argument);
+  mrpt::config::CConfigFileMemory bad("[tracker]\nratio_threshold = 1.5\n");
+  EXPECT_THROW(b.loadFromConfigFile(bad, "tracker"), std::invalid_argument);
+}
