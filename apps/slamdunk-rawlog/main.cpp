@@ -3,15 +3,17 @@
 
 #include "RunSummary.h"
 
+#include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/slam/SlamSystem.h>
 
-#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <slamdunk/core/CommandLine.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 namespace fs = std::filesystem;
@@ -22,6 +24,21 @@ namespace {
 std::string keyframePathFor(const std::string& trajectoryPath) {
   const fs::path p(trajectoryPath);
   return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
+}
+
+void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r) {
+  char buf[512];
+  const Eigen::Vector3d t = r.pose.translation();
+  std::snprintf(buf, sizeof(buf),
+                "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,",
+                index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers,
+                r.overlap, r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0,
+                r.reference, r.timings.features, r.timings.pool, r.timings.matching,
+                r.timings.ransac, r.timings.total, t.x(), t.y(), t.z());
+  std::string reason = r.lostReason;
+  for (char& c : reason)
+    if (c == ',') c = ';';
+  out << buf << reason << "\n";
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -54,12 +71,15 @@ int main(int argc, char** argv) {
                                    0, "N", cmd);
     TCLAP::ValueArg<size_t> argFirst("", "first-frame", "skip the frames before this index",
                                      false, 0, "I", cmd);
+    TCLAP::ValueArg<std::string> argFrameLog(
+        "", "frame-log", "write one CSV line per frame (status, features, matches, inliers, "
+        "overlap, keyframe, loop closure, ms per stage)", false, "", "FRAMES.csv", cmd);
     TCLAP::SwitchArg argJson("", "json", "print the summary as JSON", cmd);
     TCLAP::SwitchArg argNoOpt("", "no-optimization",
                               "disable the local optimization (same as [slam] "
                               "local_optimization=false)", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
-    cmd.parse(argc, argv);
+    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "slamdunk-rawlog")) return *exitCode;
 
     SlamOptions options;
     if (argConfig.isSet()) options = SlamOptions::fromFile(argConfig.getValue());
@@ -74,6 +94,15 @@ int main(int argc, char** argv) {
     Trajectory groundTruth;
     if (argGt.isSet()) groundTruth = readTumTrajectory(argGt.getValue());
 
+    std::unique_ptr<AtomicOutput> frameLogOut;
+    std::ofstream frameLog;
+    if (argFrameLog.isSet()) {
+      frameLogOut = std::make_unique<AtomicOutput>(argFrameLog.getValue());
+      frameLog.open(frameLogOut->tempPath());
+      frameLog << "index,timestamp,status,features,matches,inliers,overlap,new_keyframe,"
+                  "keyframe_id,loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,"
+                  "ms_total,tx,ty,tz,lost_reason\n";
+    }
     RawlogReader reader(argIn.getValue());
     SlamSystem slam(options);
     RunFigures fig;
@@ -91,6 +120,7 @@ int main(int argc, char** argv) {
       obs->unload();
       fig.decodeMs.push_back(decodeMs);
       const size_t n = fig.decodeMs.size();
+      if (frameLog.is_open()) writeFrameLogLine(frameLog, n - 1, r);
       if (!quiet && r.status == TrackingStatus::Lost)
         std::fprintf(stderr, "frame %zu (t=%.6f): lost: %s\n", n - 1, r.timestamp,
                      r.lostReason.c_str());
@@ -128,6 +158,10 @@ int main(int argc, char** argv) {
         fig.ate = AteFigures{ev.ate.stats.rmse, ev.ate.stats.mean, ev.ate.stats.median,
                              ev.ate.stats.max,  ev.pairs,           ev.unmatchedEstimatePoses};
       }
+    }
+    if (frameLogOut) {
+      frameLog.close();
+      frameLogOut->commit();
     }
     printRunSummary(fig, argJson.getValue());
     return 0;

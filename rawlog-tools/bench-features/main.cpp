@@ -24,8 +24,15 @@
 
 namespace {
 
+/// $SLAMDUNK_DATA_DIR/7scenes/seq-1000f, else the shared data folder seen from the project root.
+std::string defaultFolder() {
+  const char* dataDir = std::getenv("SLAMDUNK_DATA_DIR");
+  const std::string base = dataDir && *dataDir ? dataDir : "../shared/data";
+  return base + "/7scenes/seq-1000f";
+}
+
 struct Options {
-  std::string folder = "../shared/data/7scenes/seq-1000f";
+  std::string folder = defaultFolder();
   int images = 20;
   int repeats = 3;
   double threshold = 500;

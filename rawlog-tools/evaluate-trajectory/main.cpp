@@ -1,7 +1,7 @@
 // evaluate-trajectory: ATE and RPE of an estimated TUM trajectory against ground truth, with the
 // semantics of the TUM RGB-D benchmark scripts (associate.py, evaluate_ate.py, evaluate_rpe.py).
 
-#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 
@@ -150,14 +150,6 @@ Trajectory load(const std::string& role, const std::string& path) {
   return traj;
 }
 
-bool askedForHelpOrVersion(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help" || a == "--version") return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -183,7 +175,8 @@ int main(int argc, char** argv) {
                                       "Time offset added to the estimated stamps (s). Default 0.",
                                       false, 0.0, "seconds", cmd);
 
-    if (!cmd.parse(argc, argv)) return askedForHelpOrVersion(argc, argv) ? 0 : 1;
+    if (const auto exitCode = parseCommandLine(cmd, argc, argv, "evaluate-trajectory"))
+      return *exitCode;
 
     EvaluationOptions options;
     options.maxDifference = maxDtArg.getValue();

@@ -3,7 +3,7 @@
 
 #include <slamdunk/synthetic/SyntheticSequence.h>
 
-#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <slamdunk/core/CommandLine.h>
 
 #include <algorithm>
 #include <chrono>
@@ -56,16 +56,8 @@ int main(int argc, char** argv) {
         "3 = default); depth is always the exact z at the pixel centre",
         false, 3, "K", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
-    if (!cmd.parse(argc, argv)) {
-      // MRPT's TCLAP returns false (instead of exiting) both after printing --help/--version
-      // and after reporting a parse error.
-      for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "-h" || a == "--help" || a == "--version") return 0;
-      }
-      std::cerr << "synthetic-rgbd: bad command line; see --help\n";
-      return 1;
-    }
+    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "synthetic-rgbd"))
+      return *exitCode;
 
     slamdunk::SyntheticOptions opts;
     opts.trajectory = argTrajectory.getValue();

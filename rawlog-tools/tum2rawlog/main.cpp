@@ -2,7 +2,7 @@
 
 #include "TumToRawlog.h"
 
-#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <slamdunk/core/CommandLine.h>
 
 #include <chrono>
 #include <cstdio>
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<size_t> argMaxFrames("", "max-frames", "convert at most N frames (0 = all)",
                                          false, 0, "N", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
-    cmd.parse(argc, argv);
+    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "tum2rawlog")) return *exitCode;
 
     slamdunk::TumToRawlogOptions opts;
     opts.sequenceFolder = argSeq.getValue();

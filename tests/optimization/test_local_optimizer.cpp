@@ -16,6 +16,10 @@ using namespace slamdunk;
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+// Point noise of the accuracy tests. The error left after optimising is the noise floor: with
+// 2 mm the rotation uncertainty times the 1-3.5 m scene depth gives 0.6-2 mm of camera-centre
+// error on multi-hop chains, so most tests use 1 mm to check "< 1 mm" with margin.
+constexpr double kSigma = 0.001;
 
 /// Ground-truth keyframe poses along a sideways path facing a textured volume of landmarks,
 /// and generators of noisy point matches between keyframes.
@@ -73,14 +77,24 @@ class Scene {
     return out;
   }
 
-  /// Ground truth moved by a few cm and degrees.
-  Pose perturbed(int k) {
+  /// Ground truth moved by `metres` and 1-3 degrees (times `scale`).
+  Pose perturbed(int k, double metres = 0.04, double scale = 1.0) {
+    return truth_[k] * noise(metres, scale);
+  }
+
+  /// What a tracker would give for keyframe k: the current estimate of k-1 composed with the
+  /// true motion, off by ~1 cm and ~0.5 degrees.
+  Pose tracked(int k, const Pose& previousEstimate) {
+    return previousEstimate * truth_[k - 1].inverse() * truth_[k] * noise(0.01, 0.25);
+  }
+
+  Pose noise(double metres, double scale) {
     std::uniform_real_distribution<double> u(-1, 1);
     const Eigen::Vector3d axis = Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
     Pose d = Pose::Identity();
-    d.linear() = Eigen::AngleAxisd((2 + u(rng_)) * kDeg, axis).toRotationMatrix();
-    d.translation() = 0.04 * Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
-    return truth_[k] * d;
+    d.linear() = Eigen::AngleAxisd(scale * (2 + u(rng_)) * kDeg, axis).toRotationMatrix();
+    d.translation() = metres * Eigen::Vector3d(u(rng_), u(rng_), u(rng_)).normalized();
+    return d;
   }
 
   std::mt19937& rng() { return rng_; }
@@ -106,7 +120,7 @@ KeyframePtr makeKeyframe(KeyframeId id) {
 /// Chain graph: keyframe k linked to k-1..k-span. Keyframes in `perturb` start off their
 /// ground truth; the others start exactly on it.
 void buildChain(KeyframeGraph& g, Scene& s, int span, int matchesPerEdge,
-                const std::vector<int>& perturb, double sigma = 0.002) {
+                const std::vector<int>& perturb, double sigma = kSigma) {
   for (int k = 0; k < s.size(); ++k) {
     const bool off = std::count(perturb.begin(), perturb.end(), k) > 0;
     g.addKeyframe(makeKeyframe(k), off ? s.perturbed(k) : s.truth(k));
@@ -136,6 +150,18 @@ PoseError maxError(const KeyframeGraph& g, const Scene& s, const std::vector<int
   return e;
 }
 
+/// Error of every pose relative to keyframe 0 (gauge-free), over keyframes [0, n).
+PoseError maxRelativeError(const KeyframeGraph& g, const Scene& s, int n) {
+  PoseError e;
+  const Pose origin = g.pose(0);
+  for (int k = 1; k < n; ++k) {
+    const Pose est = origin.inverse() * g.pose(k), truth = s.truth(0).inverse() * s.truth(k);
+    e.translation = std::max(e.translation, translationDistance(est, truth));
+    e.rotationDeg = std::max(e.rotationDeg, rotationDistance(est, truth) / kDeg);
+  }
+  return e;
+}
+
 bool bitIdentical(const Pose& a, const Pose& b) { return a.matrix() == b.matrix(); }
 
 LocalOptimizerOptions paperOptions(int rings = 3) {
@@ -155,15 +181,15 @@ TEST(LocalOptimizer, RecoversFreePosesAgainstFixedOuterRing) {
   for (RobustLoss loss : {RobustLoss::None, RobustLoss::Huber, RobustLoss::Cauchy}) {
     Scene s(10);
     KeyframeGraph g;
-    buildChain(g, s, 2, 150, range(5, 10));
+    buildChain(g, s, 2, 150, range(5, 10), 0.002);
     const PoseError before = maxError(g, s, range(5, 10));
     LocalOptimizerOptions o = paperOptions(3);
     o.robustLoss = loss;
     const auto r = LocalOptimizer(o).optimize(g, 9);
     const PoseError after = maxError(g, s, range(5, 10));
     std::cout << toString(loss) << ": " << r.toString() << "\n  error before " << before.translation
-              << " m " << before.rotationDeg << " deg, after " << after.translation * 1000
-              << " mm " << after.rotationDeg << " deg\n";
+              << " m " << before.rotationDeg << " deg, after " << after.translation * 1000 << " mm "
+              << after.rotationDeg << " deg\n";
     ASSERT_TRUE(r.usable) << r.toString();
     EXPECT_EQ(r.status, LocalOptimizationReport::Status::Optimised);
     EXPECT_EQ(r.verticesOptimised, 5);
@@ -173,7 +199,8 @@ TEST(LocalOptimizer, RecoversFreePosesAgainstFixedOuterRing) {
     EXPECT_GT(before.translation, 0.02);
     EXPECT_LT(after.translation, 0.001);
     EXPECT_LT(after.rotationDeg, 0.1);
-    EXPECT_LT(r.finalCost, 0.01 * r.initialCost);
+    EXPECT_LT(r.finalCost, (loss == RobustLoss::None ? 0.01 : 0.1) * r.initialCost);
+    EXPECT_TRUE(r.converged);
     EXPECT_GT(r.maxTranslationChange, 0.02);
     EXPECT_GT(r.maxRotationChangeDeg, 1.0);
   }
@@ -231,7 +258,8 @@ TEST(LocalOptimizer, EmptyOuterRingWithPerturbedRootKeepsRelativePoses) {
 namespace {
 /// Chain of 8 (root 7, R = 3, fixed ring {1,2}) with `outliers` wrong matches of weight w added
 /// to every edge; returns the largest error of the free keyframes.
-PoseError solveWithOutliers(RobustLoss loss, int outliers, double w, double minWeight = 0) {
+PoseError solveWithOutliers(RobustLoss loss, int outliers, double w, double minWeight = 0,
+                            double scale = LocalOptimizerOptions{}.robustLossScale) {
   Scene s(8, 11);
   KeyframeGraph g;
   buildChain(g, s, 2, 150, range(3, 8));
@@ -240,14 +268,14 @@ PoseError solveWithOutliers(RobustLoss loss, int outliers, double w, double minW
       g.addMatches(k - d, k, s.outliers(k - d, k, outliers, w));
   LocalOptimizerOptions o = paperOptions(3);
   o.robustLoss = loss;
-  o.robustLossScale = 0.03;
+  o.robustLossScale = scale;
   o.minWeight = minWeight;
   const auto r = LocalOptimizer(o).optimize(g, 7);
   EXPECT_TRUE(r.usable) << r.toString();
   const PoseError e = maxError(g, s, range(3, 8));
-  std::cout << toString(loss) << ", " << outliers << " outliers/edge of weight " << w << ": "
-            << e.translation * 1000 << " mm " << e.rotationDeg << " deg (" << r.iterations
-            << " it, " << r.timeMs << " ms)\n";
+  std::cout << toString(loss) << " (scale " << scale << "), " << outliers
+            << " outliers/edge of weight " << w << ": " << e.translation * 1000 << " mm "
+            << e.rotationDeg << " deg (" << r.iterations << " it, " << r.timeMs << " ms)\n";
   return e;
 }
 }  // namespace
@@ -269,12 +297,86 @@ TEST(LocalOptimizer, NearZeroWeightOutliersDoNotSpoilTheResult) {
 }
 
 TEST(LocalOptimizer, RobustLossToleratesWeightOneOutliers) {
+  // Default scale (2 cm). Huber's pull per outlier is capped, not removed: with 9% gross
+  // outliers it leaves ~2.5 mm, with 3% under 1 mm; Cauchy (redescending) removes them.
   const PoseError huber = solveWithOutliers(RobustLoss::Huber, 15, 1.0);
   EXPECT_LT(huber.translation, 0.003);
   EXPECT_LT(huber.rotationDeg, 0.1);
+  const PoseError fewer = solveWithOutliers(RobustLoss::Huber, 5, 1.0);
+  EXPECT_LT(fewer.translation, 0.001);
   const PoseError cauchy = solveWithOutliers(RobustLoss::Cauchy, 15, 1.0);
-  EXPECT_LT(cauchy.translation, 0.002);
+  EXPECT_LT(cauchy.translation, 0.001);
   EXPECT_LT(cauchy.rotationDeg, 0.1);
+}
+
+TEST(LocalOptimizer, ExactMatchesGiveExactPoses) {
+  // No noise: whatever the form and loss, the optimum is the ground truth itself.
+  for (ResidualForm form : {ResidualForm::Edge, ResidualForm::Match}) {
+    for (RobustLoss loss : {RobustLoss::None, RobustLoss::Huber}) {
+      Scene s(10);
+      KeyframeGraph g;
+      buildChain(g, s, 2, 100, range(5, 10), 0.0);
+      LocalOptimizerOptions o;
+      o.residualForm = form;
+      o.robustLoss = loss;
+      o.functionTolerance = 1e-12;
+      o.maxIterations = 50;
+      ASSERT_TRUE(LocalOptimizer(o).optimize(g, 9).usable);
+      const PoseError e = maxError(g, s, range(5, 10));
+      EXPECT_LT(e.translation, 1e-7) << toString(form) << " " << toString(loss);
+      EXPECT_LT(e.rotationDeg, 1e-5) << toString(form) << " " << toString(loss);
+    }
+  }
+}
+
+TEST(LocalOptimizer, EdgeFormMatchesPerMatchForm) {
+  // The per-edge moment residual is an exact rewrite of the per-match cost: both forms must
+  // land on the same optimum (Huber: IRLS vs Ceres' robust corrector, same M-estimator).
+  for (RobustLoss loss : {RobustLoss::None, RobustLoss::Huber}) {
+    std::map<KeyframeId, Pose> result[2];
+    LocalOptimizationReport report[2];
+    int n = 0;
+    for (ResidualForm form : {ResidualForm::Edge, ResidualForm::Match}) {
+      Scene s(10, 21);
+      KeyframeGraph g;
+      buildChain(g, s, 3, 150, range(3, 10), 0.005);
+      for (int k = 4; k < 10; ++k) g.addMatches(k - 1, k, s.outliers(k - 1, k, 5, 1.0));
+      LocalOptimizerOptions o;
+      o.residualForm = form;
+      o.robustLoss = loss;
+      o.functionTolerance = 1e-12;
+      o.maxIterations = 50;
+      o.irlsMaxRounds = 50;
+      report[n] = LocalOptimizer(o).optimize(g, 9);
+      ASSERT_TRUE(report[n].usable) << report[n].toString();
+      result[n++] = g.poses();
+    }
+    std::cout << toString(loss) << ": edge form " << report[0].toString() << "\n  match form "
+              << report[1].toString() << "\n";
+    for (const auto& [id, p] : result[0]) {
+      EXPECT_LT(translationDistance(p, result[1].at(id)), 1e-6) << toString(loss) << " " << id;
+      EXPECT_LT(rotationDistance(p, result[1].at(id)), 1e-7) << toString(loss) << " " << id;
+    }
+    EXPECT_NEAR(report[0].finalCost, report[1].finalCost, 1e-6 * report[1].finalCost);
+    EXPECT_NEAR(report[0].initialCost, report[1].initialCost, 1e-9 * report[1].initialCost);
+  }
+}
+
+TEST(LocalOptimizer, HuberClosesLargeErrorsLikeThePlainCost) {
+  // A loop closure starts with residuals far above the robust scale (15 cm, 5 degrees here):
+  // the convex Huber loss must still get there within the default caps.
+  Scene s(10, 4);
+  KeyframeGraph g;
+  for (int k = 0; k < 10; ++k)
+    g.addKeyframe(makeKeyframe(k), k < 5 ? s.truth(k) : s.perturbed(k, 0.15, 2.0));
+  for (int k = 1; k < 10; ++k)
+    for (int d = 1; d <= 2 && k - d >= 0; ++d)
+      g.addMatches(k - d, k, s.matches(k - d, k, 150, kSigma));
+  const auto r = LocalOptimizer(LocalOptimizerOptions{}).optimize(g, 9);
+  std::cout << r.toString() << "\n";
+  ASSERT_TRUE(r.usable);
+  EXPECT_GT(r.maxTranslationChange, 0.1);
+  EXPECT_LT(maxError(g, s, range(5, 10)).translation, 0.001);
 }
 
 TEST(LocalOptimizer, MinWeightDropsMatchesAndCountsThem) {
@@ -295,7 +397,7 @@ TEST(LocalOptimizer, MinWeightDropsMatchesAndCountsThem) {
 TEST(LocalOptimizer, OptimizeAllRecoversTheWholeChainWithTheFirstKeyframeFixed) {
   Scene s(12);
   KeyframeGraph g;
-  buildChain(g, s, 3, 150, range(1, 12));
+  buildChain(g, s, 3, 200, range(1, 12));
   const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
   std::cout << "optimizeAll: " << r.toString() << "\n";
   ASSERT_TRUE(r.usable) << r.toString();
@@ -312,9 +414,10 @@ TEST(LocalOptimizer, OptimizeAllFixesOneKeyframePerComponent) {
   // Two chains with no edge between them: each needs its own gauge vertex.
   Scene s(8);
   KeyframeGraph g;
-  for (int k = 0; k < 8; ++k) g.addKeyframe(makeKeyframe(k), k == 0 || k == 4 ? s.truth(k) : s.perturbed(k));
+  for (int k = 0; k < 8; ++k)
+    g.addKeyframe(makeKeyframe(k), k == 0 || k == 4 ? s.truth(k) : s.perturbed(k));
   for (int k = 1; k < 8; ++k)
-    if (k != 4) g.addMatches(k - 1, k, s.matches(k - 1, k, 150, 0.002));
+    if (k != 4) g.addMatches(k - 1, k, s.matches(k - 1, k, 150, kSigma));
   const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
   ASSERT_TRUE(r.usable) << r.toString();
   EXPECT_EQ(r.verticesFixed, 2);
@@ -354,14 +457,15 @@ TEST(LocalOptimizer, SingleKeyframeOrNoEdgesChangesNothing) {
 TEST(LocalOptimizer, NonFiniteMatchesAreSkippedAndCounted) {
   Scene s(6);
   KeyframeGraph g;
-  buildChain(g, s, 2, 150, range(2, 6));
+  buildChain(g, s, 2, 150, range(0, 5));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   const Eigen::Vector3d ok(0.1, 0.2, 2.0);
-  g.addMatches(4, 5, {{Eigen::Vector3d(nan, 0, 1), ok, 1.0},
-                      {ok, Eigen::Vector3d(0, inf, 1), 1.0},
-                      {ok, ok, nan},
-                      {ok, ok, -0.5}});
+  g.addMatches(4, 5,
+               {{Eigen::Vector3d(nan, 0, 1), ok, 1.0},
+                {ok, Eigen::Vector3d(0, inf, 1), 1.0},
+                {ok, ok, nan},
+                {ok, ok, -0.5}});
   const auto r = LocalOptimizer(paperOptions(10)).optimize(g, 5);
   ASSERT_TRUE(r.usable) << r.toString();
   EXPECT_EQ(r.invalidMatches, 4);
@@ -427,12 +531,16 @@ TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
   // Pre-compute the matches so the threads only touch the graph.
   std::vector<std::vector<PointMatch>> prev1(kTotal), prev2(kTotal);
   for (int k = 1; k < kTotal; ++k) {
-    prev1[k] = s.matches(k - 1, k, 100, 0.002);
-    if (k >= 2) prev2[k] = s.matches(k - 2, k, 100, 0.002);
+    prev1[k] = s.matches(k - 1, k, 100, kSigma);
+    if (k >= 2) prev2[k] = s.matches(k - 2, k, 100, kSigma);
   }
+  std::vector<Pose> noise;
+  for (int k = 0; k < kTotal; ++k) noise.push_back(s.noise(0.01, 0.25));
   KeyframeGraph g;
-  auto add = [&](int k) {
-    g.addKeyframe(makeKeyframe(k), k == 0 ? s.truth(0) : s.perturbed(k));
+  auto add = [&](int k) {  // like the tracker: from the latest estimate of the previous keyframe
+    const Pose init =
+        k == 0 ? s.truth(0) : g.pose(k - 1) * s.truth(k - 1).inverse() * s.truth(k) * noise[k];
+    g.addKeyframe(makeKeyframe(k), init);
     if (k >= 1) g.addMatches(k - 1, k, prev1[k]);
     if (k >= 2) g.addMatches(k - 2, k, prev2[k]);
   };
@@ -444,7 +552,10 @@ TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
     const LocalOptimizer opt(LocalOptimizerOptions{});
     while (!done) {
       const auto r = opt.optimize(g, g.ids().back());
-      if (!r.usable || r.maxTranslationChange > 0.2) {
+      // A keyframe caught between addKeyframe() and its addMatches() has no edge yet: then
+      // "nothing to optimise" is the right answer. Failures or wild moves are not.
+      const bool idle = r.status == LocalOptimizationReport::Status::NothingToOptimise;
+      if (!(r.usable || idle) || r.maxTranslationChange > 0.5) {
         if (badReports++ == 0) std::cout << "bad report: " << r.toString() << "\n";
       }
       ++runs;
@@ -456,11 +567,11 @@ TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
       if (!isValidPose(g.pose(ids[ids.size() / 2]))) ++badPoses;
       for (const auto& kv : g.poses())
         if (!isValidPose(kv.second)) ++badPoses;
+      (void)g.rings(ids.back(), 3);
     }
   });
   for (int k = kStart; k < kTotal; ++k) {  // the "tracker"
     add(k);
-    (void)g.pose(k - 1);
     std::this_thread::sleep_for(std::chrono::milliseconds(3));
   }
   while (runs < 20) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -468,40 +579,50 @@ TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
   optimizer.join();
   reader.join();
 
-  std::cout << runs << " concurrent optimisations\n";
+  std::cout << runs << " optimisations ran while the graph grew\n";
+  EXPECT_GE(runs, 20);
   EXPECT_EQ(badReports, 0);
   EXPECT_EQ(badPoses, 0);
   EXPECT_EQ(g.keyframeCount(), static_cast<size_t>(kTotal));
+  const PoseError local = maxRelativeError(g, s, kTotal);
   const auto r = LocalOptimizer(paperOptions()).optimizeAll(g);
   ASSERT_TRUE(r.usable) << r.toString();
-  EXPECT_LT(maxError(g, s, range(0, kTotal)).translation, 0.002);
+  const PoseError global = maxRelativeError(g, s, kTotal);
+  std::cout << "  error relative to keyframe 0: local passes " << local.translation * 1000
+            << " mm, after optimizeAll " << global.translation * 1000 << " mm\n";
+  // Local passes only: drift from the never-freed start, larger when the optimiser is slow
+  // (e.g. under ThreadSanitizer) and several keyframes arrive between two runs.
+  EXPECT_LT(local.translation, 0.5);
+  EXPECT_LT(global.translation, 0.01);
 }
 
 // --- timing (printed, not asserted) ---------------------------------------------------------
 
-TEST(LocalOptimizer, TimingOnRealisticLocalProblems) {
-  // Grows a map like the tracker would: each keyframe matches its 4 predecessors and sometimes
-  // an older one (revisits), 200 matches per edge; optimises from each new keyframe (R = 3).
+namespace {
+/// Grows a map like the tracker would: keyframe k matches its `span` predecessors and, from
+/// time to time, an older one (a revisit); optimises from each new keyframe. Prints timing.
+void timeLocalProblems(int span, int matchesPerEdge, const LocalOptimizerOptions& options) {
   constexpr int kTotal = 60;
   Scene s(kTotal, 9);
   KeyframeGraph g;
   std::uniform_real_distribution<double> u(0, 1);
-  const LocalOptimizer opt(LocalOptimizerOptions{});
+  const LocalOptimizer opt(options);
   std::vector<double> ms;
   std::vector<int> sizes;
   double meanResiduals = 0;
   for (int k = 0; k < kTotal; ++k) {
-    g.addKeyframe(makeKeyframe(k), k == 0 ? s.truth(0) : s.perturbed(k));
-    for (int d = 1; d <= 4 && k - d >= 0; ++d) g.addMatches(k - d, k, s.matches(k - d, k, 200, 0.005));
+    g.addKeyframe(makeKeyframe(k), k == 0 ? s.truth(0) : s.tracked(k, g.pose(k - 1)));
+    for (int d = 1; d <= span && k - d >= 0; ++d)
+      g.addMatches(k - d, k, s.matches(k - d, k, matchesPerEdge, 0.005));
     if (k >= 10 && u(s.rng()) < 0.4) {
-      const int old = k - 6 - static_cast<int>(u(s.rng()) * 4);
-      auto m = s.matches(old, k, 200, 0.005);
+      const int old = k - span - 2 - static_cast<int>(u(s.rng()) * 4);
+      auto m = s.matches(old, k, matchesPerEdge, 0.005);
       if (m.size() >= 50) g.addMatches(old, k, m);
     }
-    if (k < 1) continue;
+    if (k == 0) continue;
     const auto r = opt.optimize(g, k);
-    if (k < 12) continue;  // time the steady state only
     ASSERT_TRUE(r.usable) << r.toString();
+    if (k < 12) continue;  // time the steady state only
     ms.push_back(r.timeMs);
     sizes.push_back(r.verticesOptimised + r.verticesFixed);
     meanResiduals += r.residuals;
@@ -509,15 +630,25 @@ TEST(LocalOptimizer, TimingOnRealisticLocalProblems) {
   meanResiduals /= ms.size();
   std::vector<double> sorted = ms;
   std::sort(sorted.begin(), sorted.end());
-  std::cout << "local optimisation over " << ms.size() << " problems of "
-            << *std::min_element(sizes.begin(), sizes.end()) << "-"
-            << *std::max_element(sizes.begin(), sizes.end()) << " keyframes, " << meanResiduals
-            << " residuals on average: median " << sorted[sorted.size() / 2] << " ms, max "
-            << sorted.back() << " ms\n";
-  const PoseError e = maxError(g, s, range(0, kTotal));
-  std::cout << "  map error after the run: " << e.translation * 1000 << " mm " << e.rotationDeg
-            << " deg\n";
-  EXPECT_LT(e.translation, 0.01);
+  const PoseError e = maxRelativeError(g, s, kTotal);
+  std::cout << toString(options.residualForm) << " form, " << toString(options.robustLoss) << ": "
+            << ms.size() << " local problems of " << *std::min_element(sizes.begin(), sizes.end())
+            << "-" << *std::max_element(sizes.begin(), sizes.end()) << " keyframes, "
+            << meanResiduals << " matches on average: median " << sorted[sorted.size() / 2]
+            << " ms, max " << sorted.back() << " ms; map error " << e.translation * 1000 << " mm "
+            << e.rotationDeg << " deg\n";
+  EXPECT_LT(e.translation, 0.05);
+}
+}  // namespace
+
+TEST(LocalOptimizer, TimingOnRealisticLocalProblems) {
+  LocalOptimizerOptions o;  // defaults
+  timeLocalProblems(4, 200, o);
+  timeLocalProblems(6, 300, o);
+  o.robustLoss = RobustLoss::None;
+  timeLocalProblems(4, 200, o);
+  o.residualForm = ResidualForm::Match;
+  timeLocalProblems(4, 200, o);
 }
 
 // --- options ------------------------------------------------------------------------------

@@ -7,6 +7,7 @@
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 
@@ -50,6 +51,8 @@ void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   siftDetectFeatures = r.readInt("sift_detect_features", siftDetectFeatures);
   minDepth = r.readDouble("min_depth", minDepth);
   maxDepth = r.readDouble("max_depth", maxDepth);
+  maxDepthDiscontinuity = r.readDouble("max_depth_discontinuity", maxDepthDiscontinuity);
+  depthCheckRadius = r.readInt("depth_check_radius", depthCheckRadius);
   r.rejectUnknownKeys();
   if (maxFeatures < 3) throw std::invalid_argument("[" + section + "] max_features must be >= 3");
   if (!(minDepth >= 0 && maxDepth > minDepth))
@@ -68,9 +71,24 @@ void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(section, "sift_detect_features", siftDetectFeatures);
   cfg.write(section, "min_depth", minDepth);
   cfg.write(section, "max_depth", maxDepth);
+  cfg.write(section, "max_depth_discontinuity", maxDepthDiscontinuity);
+  cfg.write(section, "depth_check_radius", depthCheckRadius);
 }
 
 namespace {
+
+/// True when every valid depth around (u, v) is within `fraction` of z.
+bool depthIsSmooth(const cv::Mat& depth, double u, double v, float z, int radius, double fraction) {
+  const int cu = static_cast<int>(std::lround(u)), cv_ = static_cast<int>(std::lround(v));
+  const float tol = static_cast<float>(fraction) * z;
+  for (int r = std::max(0, cv_ - radius); r <= std::min(depth.rows - 1, cv_ + radius); ++r) {
+    const float* row = depth.ptr<float>(r);
+    for (int c = std::max(0, cu - radius); c <= std::min(depth.cols - 1, cu + radius); ++c)
+      if (row[c] <= 0 || std::abs(row[c] - z) > tol) return false;
+  }
+  return true;
+}
+
 cv::Ptr<cv::Feature2D> makeDetector(const FeatureOptions& o) {
   switch (o.type) {
     case FeatureType::SURF64:
@@ -125,6 +143,10 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
     const cv::KeyPoint& kp = detected[idx];
     const auto p = frame.backProject(kp.pt.x, kp.pt.y);
     if (!p || p->z() < options_.minDepth || p->z() > options_.maxDepth) continue;
+    if (options_.depthCheckRadius > 0 &&
+        !depthIsSmooth(frame.depth(), kp.pt.x, kp.pt.y, static_cast<float>(p->z()),
+                       options_.depthCheckRadius, options_.maxDepthDiscontinuity))
+      continue;
     kept.push_back(kp);
     points.push_back(*p);
   }

@@ -8,9 +8,9 @@
 
 namespace slamdunk::surf {
 
-/// Summed-area table of an 8-bit image: at(y, x) = sum of pixels [0, x) x [0, y).
-/// Sums are kept modulo 2^32 (uint32_t): any box sum of an 8-bit image with fewer than 2^24
-/// pixels is exact after the wrapping subtractions, whatever the image size.
+/// Summed-area table of an 8-bit image: row(y)[x] = sum of pixels [0, x) x [0, y).
+/// Sums are kept modulo 2^32 (uint32_t, defined wrap-around): the sum over any box of fewer than
+/// 2^23 pixels comes out exact from the corner differences (as an int32), whatever the image size.
 class IntegralImage {
  public:
   /// storage: where the table is kept; reusing it across calls avoids faulting in fresh pages.
@@ -20,13 +20,6 @@ class IntegralImage {
   int cols() const { return cols_; }  ///< image columns (the table has one more)
   std::ptrdiff_t stride() const { return stride_; }
   const uint32_t* row(int y) const { return data_ + y * stride_; }
-
-  /// Sum of pixels in [x0, x1) x [y0, y1); the box must lie inside the image.
-  int32_t box(int x0, int y0, int x1, int y1) const {
-    const uint32_t* r0 = row(y0);
-    const uint32_t* r1 = row(y1);
-    return static_cast<int32_t>(r1[x1] - r1[x0] - r0[x1] + r0[x0]);
-  }
 
   /// Haar wavelet responses of side 2h whose centre is the pixel corner (cx, cy):
   /// x = right half - left half, y = bottom half - top half. The centre is clamped so the

@@ -16,9 +16,12 @@ namespace {
 std::unique_ptr<ceres::LossFunction> makeRho(const LocalOptimizerOptions& o) {
   // Ceres' scale a acts on s = ‖e‖²: Huber and Cauchy bend where ‖e‖ ≈ a (metres).
   switch (o.robustLoss) {
-    case RobustLoss::None: return nullptr;
-    case RobustLoss::Huber: return std::make_unique<ceres::HuberLoss>(o.robustLossScale);
-    case RobustLoss::Cauchy: return std::make_unique<ceres::CauchyLoss>(o.robustLossScale);
+    case RobustLoss::None:
+      return nullptr;
+    case RobustLoss::Huber:
+      return std::make_unique<ceres::HuberLoss>(o.robustLossScale);
+    case RobustLoss::Cauchy:
+      return std::make_unique<ceres::CauchyLoss>(o.robustLossScale);
   }
   return nullptr;
 }
@@ -105,6 +108,10 @@ BundleAdjustmentResult BundleAdjuster::solveEdgeForm(const LocalProblem& p) cons
   for (const auto& [id, pose] : p.poses)
     if (!p.fixed.count(id)) current.emplace(id, pose);
   r.initialCost = r.finalCost = cost(p, current);
+  if (!std::isfinite(r.initialCost)) {
+    r.message = "non-finite initial cost (absurd point coordinates?)";
+    return r;
+  }
   const int maxRounds = rho_ ? options_.irlsMaxRounds : 1;
   for (r.rounds = 1; r.rounds <= maxRounds; ++r.rounds) {
     const auto weights = irlsWeights(p, current);
@@ -114,8 +121,8 @@ BundleAdjustmentResult BundleAdjuster::solveEdgeForm(const LocalProblem& p) cons
     params.addTo(problem);
     for (size_t n = 0; n < p.edges.size(); ++n) {
       const KeyframeEdge& e = p.edges[n];
-      problem.AddResidualBlock(EdgeMomentResidual(e.matches, weights[n]).toCostFunction(),
-                               nullptr, params.quaternion(e.i), params.translation(e.i),
+      problem.AddResidualBlock(EdgeMomentResidual(e.matches, weights[n]).toCostFunction(), nullptr,
+                               params.quaternion(e.i), params.translation(e.i),
                                params.quaternion(e.j), params.translation(e.j));
     }
     ceres::Solver::Summary summary;
@@ -126,7 +133,10 @@ BundleAdjustmentResult BundleAdjuster::solveEdgeForm(const LocalProblem& p) cons
 
     auto next = params.freePoses();
     const double c = cost(p, next);
-    if (!std::isfinite(c)) return r;
+    if (!std::isfinite(c)) {
+      r.message = "non-finite cost after solving: " + summary.message;
+      return r;
+    }
     if (c > r.finalCost) {  // an inexact round made things worse: keep the previous poses
       r.converged = true;
       break;

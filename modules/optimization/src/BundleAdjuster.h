@@ -21,7 +21,7 @@
 namespace slamdunk {
 
 struct BundleAdjustmentResult {
-  std::map<KeyframeId, Pose> freePoses;  ///< optimised values of the free vertices
+  std::map<KeyframeId, Pose> freePoses;   ///< optimised values of the free vertices
   double initialCost = 0, finalCost = 0;  ///< Σ w ρ(‖e‖²) (ρ(s) = s without robust loss)
   int iterations = 0;                     ///< Levenberg-Marquardt iterations over all rounds
   int rounds = 0;                         ///< reweighting rounds (1 without robust loss)

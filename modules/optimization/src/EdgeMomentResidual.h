@@ -24,13 +24,15 @@ class EdgeMomentResidual {
 
   template <typename T>
   bool operator()(const T* qI, const T* tI, const T* qJ, const T* tJ, T* residual) const {
-    const Eigen::Matrix<T, 3, 3> rotI = Eigen::Map<const Eigen::Quaternion<T>>(qI).toRotationMatrix();
-    const Eigen::Matrix<T, 3, 3> rotJ = Eigen::Map<const Eigen::Quaternion<T>>(qJ).toRotationMatrix();
+    const Eigen::Matrix<T, 3, 3> rotI =
+        Eigen::Map<const Eigen::Quaternion<T>>(qI).toRotationMatrix();
+    const Eigen::Matrix<T, 3, 3> rotJ =
+        Eigen::Map<const Eigen::Quaternion<T>>(qJ).toRotationMatrix();
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> transI(tI), transJ(tJ);
     Eigen::Matrix<T, 3, 4> A;
     A.template leftCols<3>() = rotI.transpose() * rotJ;  // relative pose T_i⁻¹ T_j
-    A.col(3) = A.template leftCols<3>() * centroidJ_.cast<T>() +
-               rotI.transpose() * (transJ - transI);
+    A.col(3) =
+        A.template leftCols<3>() * centroidJ_.cast<T>() + rotI.transpose() * (transJ - transI);
     Eigen::Map<Eigen::Matrix<T, 3, 4>> r(residual);
     r = A * L_.cast<T>() - C_.cast<T>();
     return true;

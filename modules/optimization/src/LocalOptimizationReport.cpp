@@ -13,8 +13,9 @@ std::string LocalOptimizationReport::toString() const {
                 "root %u: %s; %d free, %d fixed, %d edges, %d residuals (%d invalid, %d dropped); "
                 "cost %.6g -> %.6g in %d it/%d rounds%s; max change %.4f m %.3f deg; %.2f ms",
                 root, s, verticesOptimised, verticesFixed, edges, residuals, invalidMatches,
-                droppedMatches, initialCost, finalCost, iterations, rounds, converged ? " (converged)" : "",
-                maxTranslationChange, maxRotationChangeDeg, timeMs);
+                droppedMatches, initialCost, finalCost, iterations, rounds,
+                converged ? " (converged)" : "", maxTranslationChange, maxRotationChangeDeg,
+                timeMs);
   return message.empty() ? buf : std::string(buf) + "; " + message;
 }
 

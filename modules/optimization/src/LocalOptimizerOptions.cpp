@@ -13,15 +13,17 @@ RobustLoss robustLossFromString(const std::string& name) {
   if (n == "none") return RobustLoss::None;
   if (n == "huber") return RobustLoss::Huber;
   if (n == "cauchy") return RobustLoss::Cauchy;
-  throw std::invalid_argument("unknown robust loss '" + name +
-                              "' (choose none, huber or cauchy)");
+  throw std::invalid_argument("unknown robust loss '" + name + "' (choose none, huber or cauchy)");
 }
 
 std::string toString(RobustLoss loss) {
   switch (loss) {
-    case RobustLoss::None: return "none";
-    case RobustLoss::Huber: return "huber";
-    case RobustLoss::Cauchy: return "cauchy";
+    case RobustLoss::None:
+      return "none";
+    case RobustLoss::Huber:
+      return "huber";
+    case RobustLoss::Cauchy:
+      return "cauchy";
   }
   return "?";
 }

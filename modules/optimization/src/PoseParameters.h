@@ -27,7 +27,7 @@ class PoseParameters {
   std::map<KeyframeId, Pose> freePoses() const;
 
  private:
-  ceres::EigenQuaternionManifold manifold_;  // not owned by the problem: outlives it
+  ceres::EigenQuaternionManifold manifold_;             // not owned by the problem: outlives it
   std::map<KeyframeId, std::array<double, 7>> values_;  // std::map: stable addresses
   std::set<KeyframeId> fixed_;
 };

@@ -44,6 +44,28 @@ double thresholdFor(const Eigen::Vector3d& p, const RansacOptions& o) {
   return o.inlierThreshold + o.depthCoefficient * p.z() * p.z();
 }
 
+/// MSAC score (Torr & Zisserman): Σ min(r²/thr², 1). Unlike a plain inlier count it prefers
+/// the hypothesis whose inliers fit tightly, which matters with a generous threshold.
+double msacCost(const Pose& T, const std::vector<Eigen::Vector3d>& src,
+                const std::vector<Eigen::Vector3d>& dst, const std::vector<double>& thr2,
+                size_t* inlierCount) {
+  double cost = 0;
+  size_t count = 0;
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  for (size_t i = 0; i < src.size(); ++i) {
+    const double r2 = (R * src[i] + t - dst[i]).squaredNorm();
+    if (r2 < thr2[i]) {
+      cost += r2 / thr2[i];
+      ++count;
+    } else {
+      cost += 1.0;
+    }
+  }
+  *inlierCount = count;
+  return cost;
+}
+
 size_t countInliers(const Pose& T, const std::vector<Eigen::Vector3d>& src,
                     const std::vector<Eigen::Vector3d>& dst, const std::vector<double>& thr2,
                     std::vector<bool>* mask) {
@@ -81,6 +103,7 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
   std::mt19937 rng(o.seed);
   std::uniform_int_distribution<size_t> pick(0, n - 1);
   size_t bestCount = 0;
+  double bestCost = static_cast<double>(n) + 1;
   Pose bestT = Pose::Identity();
   int needed = o.maxIterations;
   int it = 0;
@@ -93,8 +116,10 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
     s = {src[i0], src[i1], src[i2]};
     d = {dst[i0], dst[i1], dst[i2]};
     const Pose T = fitRigidTransform(s, d);
-    const size_t c = countInliers(T, src, dst, thr2, nullptr);
-    if (c > bestCount) {
+    size_t c = 0;
+    const double cost = msacCost(T, src, dst, thr2, &c);
+    if (cost < bestCost) {
+      bestCost = cost;
       bestCount = c;
       bestT = T;
       // Adaptive stop: iterations so that an all-inlier sample was drawn with prob. p.
@@ -102,7 +127,7 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
       const double pAllIn = w * w * w;
       if (pAllIn >= 1.0 - 1e-12) {
         needed = it + 1;
-      } else {
+      } else if (pAllIn > 1e-12) {
         const double k = std::log(1.0 - o.confidence) / std::log(1.0 - pAllIn);
         needed = static_cast<int>(std::min<double>(o.maxIterations, std::ceil(k)));
       }
@@ -111,7 +136,8 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
   best.iterations = it;
   if (bestCount < static_cast<size_t>(std::max(3, o.minInliers))) return best;
 
-  // Refit on all inliers, twice: the refined pose may gain (or lose) a few borderline pairs.
+  // Least-squares refit on all inliers, twice: the refined pose may gain or lose a few
+  // borderline pairs.
   std::vector<bool> mask(n);
   Pose T = bestT;
   size_t count = countInliers(T, src, dst, thr2, &mask);
@@ -128,7 +154,7 @@ RansacResult ransacAbsoluteOrientation(const std::vector<Eigen::Vector3d>& src,
     const Pose refined = fitRigidTransform(si, di, refitWeights ? &wi : nullptr);
     std::vector<bool> newMask(n);
     const size_t newCount = countInliers(refined, src, dst, thr2, &newMask);
-    if (newCount < count) break;
+    if (newCount < 3) break;
     T = refined;
     count = newCount;
     mask = newMask;

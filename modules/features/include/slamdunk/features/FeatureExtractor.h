@@ -30,6 +30,10 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
   int siftDetectFeatures = 0;          ///< 0 = all
   double minDepth = 0.2;               ///< metres: nearer points are sensor noise
   double maxDepth = 6.0;               ///< metres: farther Kinect depth is too noisy to use
+  /// Reject a keypoint when depths within `depthCheckRadius` pixels differ from its own by more
+  /// than this fraction: on a depth edge a pixel of misregistration picks the wrong surface.
+  double maxDepthDiscontinuity = 0.05;
+  int depthCheckRadius = 2;            ///< 0 disables the check
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

@@ -14,7 +14,7 @@ namespace slamdunk {
 struct SurfParams {
   /// Keep maxima whose Hessian determinant exceeds this. Each lobe of the box filters is
   /// averaged (sum / lobe area) on a 0..255 image, as in OpenCV's SURF, so values tuned there
-  /// carry over: 100-500 gives a few hundred to ~1000 keypoints on a VGA frame.
+  /// carry over. On 7-Scenes VGA frames 500 gives ~400-600 keypoints, 100 about 1600.
   double hessianThreshold = 500.0;
   /// Number of octaves; each doubles the filter-size step and the sampling step.
   int nOctaves = 4;
@@ -51,7 +51,9 @@ struct SurfParams {
 ///   caller can keep the best N by truncating.
 /// - Descriptors: CV_32F rows of 64 (or 128 if extended) values with unit L2 norm.
 ///
-/// Output is deterministic, also when computed on several threads.
+/// Output is deterministic, also when computed on several threads (cv::parallel_for_). Calls
+/// from different threads are safe; each calling thread keeps its scratch memory (about 7 MB
+/// for a VGA image) between calls, which saves ~1400 page faults per frame.
 class Surf : public cv::Feature2D {
  public:
   using Params = SurfParams;

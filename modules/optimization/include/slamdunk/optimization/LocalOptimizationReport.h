@@ -27,12 +27,12 @@ struct LocalOptimizationReport {
   double finalCost = 0;
   int iterations = 0;  ///< Levenberg-Marquardt iterations (over all reweighting rounds)
   int rounds = 0;      ///< reweighting rounds (1 without robust loss or in the match form)
-  double timeMs = 0;  ///< wall time of the whole call (selection, assembly, solve, write-back)
-  double maxTranslationChange = 0;   ///< metres, largest over the written-back poses
-  double maxRotationChangeDeg = 0;   ///< degrees, largest over the written-back poses
-  bool converged = false;  ///< the solver met a tolerance (not merely the iteration cap)
-  bool usable = false;     ///< poses were written back to the graph
-  std::string message;     ///< why nothing was done / why it failed, or the solver's verdict
+  double timeMs = 0;   ///< wall time of the whole call (selection, assembly, solve, write-back)
+  double maxTranslationChange = 0;  ///< metres, largest over the written-back poses
+  double maxRotationChangeDeg = 0;  ///< degrees, largest over the written-back poses
+  bool converged = false;           ///< the solver met a tolerance (not merely the iteration cap)
+  bool usable = false;              ///< poses were written back to the graph
+  std::string message;  ///< why nothing was done / why it failed, or the solver's verdict
 
   /// One line for logs.
   std::string toString() const;

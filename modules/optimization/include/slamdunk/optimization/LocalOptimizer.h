@@ -27,15 +27,16 @@ std::string toString(ResidualForm form);
 
 struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   int rings = 3;  ///< R (paper Table 3): rings 0..R-1 are free, ring R is held fixed
-  /// Huber by default: tracker inliers are mostly within a few cm, so Huber leaves them in its
-  /// quadratic zone (same as the paper's cost) and only caps the pull of the odd wrong match.
+  /// Huber by default: RANSAC-filtered matches are mostly within ~2 cm, where Huber is the
+  /// paper's quadratic cost, and the odd wrong match only pulls linearly. Huber is convex, so
+  /// unlike Cauchy it still closes loops whose residuals start far above the scale.
   /// "none" is the paper's plain weighted least squares.
   RobustLoss robustLoss = RobustLoss::Huber;
-  double robustLossScale = 0.03;  ///< metres of ‖e‖ where the robust loss starts to bend
+  double robustLossScale = 0.02;  ///< metres of ‖e‖ where the robust loss starts to bend
   int maxIterations = 15;         ///< Levenberg-Marquardt cap: keeps the worst case bounded
   double functionTolerance = 1e-6;
-  int numThreads = 1;       ///< 1 keeps results bit-reproducible
-  double minWeight = 0.0;   ///< matches with a smaller weight are dropped (weight 0 always is)
+  int numThreads = 1;          ///< 1 keeps results bit-reproducible
+  double minWeight = 0.0;      ///< matches with a smaller weight are dropped (weight 0 always is)
   double maxSolverTimeMs = 0;  ///< 0 = no time cap (a cap makes results timing-dependent)
   ResidualForm residualForm = ResidualForm::Edge;
   int irlsMaxRounds = 8;  ///< edge form with a robust loss: cap on reweighting rounds
