@@ -109,9 +109,18 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     size_t index = 0;
     const bool quiet = argQuiet.getValue();
+    std::string readError;
     for (;;) {
       const auto t = std::chrono::steady_clock::now();
-      auto obs = reader.next();
+      mrpt::obs::CObservation3DRangeScan::Ptr obs;
+      try {
+        obs = reader.next();
+      } catch (const std::exception& e) {
+        // A recording cut short keeps the frames before the damage: they are processed and
+        // written, and the exit code still reports the problem.
+        readError = e.what();
+        break;
+      }
       if (!obs) break;
       if (index++ < argFirst.getValue()) continue;
       obs->load();
@@ -130,6 +139,7 @@ int main(int argc, char** argv) {
                      n / (msSince(start) / 1000.0));
       if (argMax.getValue() && n >= argMax.getValue()) break;
     }
+    if (!readError.empty() && fig.decodeMs.empty()) throw std::runtime_error(readError);
     if (reader.entriesRead() > 0 && fig.decodeMs.empty())
       throw std::runtime_error("rawlog '" + argIn.getValue() +
                                "' has no CObservation3DRangeScan (" +
@@ -164,6 +174,11 @@ int main(int argc, char** argv) {
       frameLogOut->commit();
     }
     printRunSummary(fig, argJson.getValue());
+    if (!readError.empty()) {
+      std::cerr << "slamdunk-rawlog: error: " << readError << "; the outputs cover the "
+                << fig.decodeMs.size() << " frames before it\n";
+      return 2;
+    }
     return 0;
   } catch (const TCLAP::ArgException& e) {
     std::cerr << "slamdunk-rawlog: " << e.error() << " (" << e.argId() << "); see --help\n";

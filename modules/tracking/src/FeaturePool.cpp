@@ -1,3 +1,4 @@
+#include <slamdunk/tracking/DepthNoiseModel.h>
 #include <slamdunk/tracking/FeaturePool.h>
 
 #include <opencv2/core/utility.hpp>
@@ -30,6 +31,7 @@ void FeaturePool::build(const KeyframeGraph& graph, const std::vector<KeyframeId
   index_.reset();
   descriptors_ = cv::Mat();
   const Pose worldToCenter = center.inverse();
+  const DepthNoiseModel noise;
   std::vector<cv::Mat> rows;
   for (KeyframeId id : active) {
     const KeyframePtr kf = graph.keyframe(id);
@@ -38,7 +40,9 @@ void FeaturePool::build(const KeyframeGraph& graph, const std::vector<KeyframeId
     for (size_t i = 0; i < fs.size(); ++i) {
       const Eigen::Vector3d pw = T * fs.points[i];
       if (options_.frustumFilter && !insideFrustum(worldToCenter * pw, K, options_)) continue;
-      features_.push_back({id, static_cast<uint32_t>(i), fs.points[i], pw});
+      const Eigen::Matrix3d R = T.linear();
+      features_.push_back({id, static_cast<uint32_t>(i), fs.points[i], pw,
+                           R * noise.covariance(fs.points[i]) * R.transpose()});
       rows.push_back(fs.descriptors.row(static_cast<int>(i)));
     }
   }

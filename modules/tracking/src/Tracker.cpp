@@ -1,3 +1,5 @@
+#include <slamdunk/tracking/DepthNoiseModel.h>
+#include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/Tracker.h>
 
 #include <algorithm>
@@ -14,12 +16,8 @@ double msSince(Clock::time_point t) {
 Eigen::Vector2d groundPosition(const Pose& p) {
   return {p.translation().x(), p.translation().z()};
 }
-/// Variance (m²) of a back-projected point at depth z: lateral error of about a pixel plus
-/// Kinect-style depth error growing with z² (Khoshelham & Elberink 2012).
-double depthNoiseVariance(double z) {
-  const double sigma = 0.0015 * z + 0.0015 * z * z;
-  return sigma * sigma + 1e-8;
-}
+const DepthNoiseModel kNoise;
+double depthNoiseVariance(double z) { return kNoise.variance(z); }
 }  // namespace
 
 const char* toString(TrackingStatus s) {
@@ -114,7 +112,17 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     return lostBecause("implausible jump of " +
                        std::to_string(translationDistance(ransac.transform, lastPose_)) + " m");
 
-  const Pose pose = ransac.transform;
+  Pose pose = ransac.transform;
+  if (options_.anisotropicRefinement) {
+    std::vector<PosePair> pairs;
+    pairs.reserve(ransac.inlierCount);
+    for (size_t i = 0; i < matches.size(); ++i) {
+      if (!ransac.inliers[i]) continue;
+      const PoolFeature& f = pool_.feature(matches[i].pool);
+      pairs.push_back({src[i], dst[i], kNoise.covariance(src[i]), f.covarianceWorld});
+    }
+    pose = refinePose(pose, pairs);
+  }
   r.pose = pose;
   r.inliers = ransac.inlierCount;
   r.status = TrackingStatus::Tracked;
@@ -208,7 +216,15 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
   std::map<KeyframeId, std::vector<PointMatch>> perKeyframe;
   for (const PoolMatch& m : inlierMatches) {
     const PoolFeature& f = pool_.feature(m.pool);
-    perKeyframe[f.keyframe].push_back({f.pointKeyframe, features.points[m.query], 1.0 - m.ratio});
+    double w = 1.0 - m.ratio;  // paper Sec. 4.3
+    if (options_.depthWeightedEdges) {
+      // Scaled by the match's inverse depth-noise variance, relative to a match at 1 m, so
+      // far (noisy) points pull the optimization less; the weight stays 1 - θ' at 1 m.
+      static const double atOneMetre = 2 * depthNoiseVariance(1.0);
+      w *= atOneMetre /
+           (depthNoiseVariance(f.pointKeyframe.z()) + depthNoiseVariance(features.points[m.query].z()));
+    }
+    perKeyframe[f.keyframe].push_back({f.pointKeyframe, features.points[m.query], w});
   }
   for (const auto& [other, pm] : perKeyframe)
     if (static_cast<int>(pm.size()) >= options_.edgeMinMatches) graph_->addMatches(other, id, pm);

@@ -18,6 +18,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   maxTranslationJump = r.readDouble("max_translation_jump", maxTranslationJump);
   keepKeyframeImages = r.readBool("keep_keyframe_images", keepKeyframeImages);
   weightedRefit = r.readBool("weighted_refit", weightedRefit);
+  depthWeightedEdges = r.readBool("depth_weighted_edges", depthWeightedEdges);
+  anisotropicRefinement = r.readBool("anisotropic_refinement", anisotropicRefinement);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
@@ -71,6 +73,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "max_translation_jump", maxTranslationJump);
   cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
   cfg.write(s, "weighted_refit", weightedRefit);
+  cfg.write(s, "depth_weighted_edges", depthWeightedEdges);
+  cfg.write(s, "anisotropic_refinement", anisotropicRefinement);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

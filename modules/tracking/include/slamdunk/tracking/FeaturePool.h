@@ -31,6 +31,7 @@ struct PoolFeature {
   uint32_t index = 0;             ///< feature index within the keyframe
   Eigen::Vector3d pointKeyframe;  ///< in the keyframe's optical frame
   Eigen::Vector3d pointWorld;     ///< with the keyframe pose at build time
+  Eigen::Matrix3d covarianceWorld = Eigen::Matrix3d::Identity();  ///< depth noise, world frame
 };
 
 struct PoolMatch {

@@ -20,6 +20,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   double maxTranslationJump = 0.5; ///< metres between consecutive tracked frames (not when lost)
   bool keepKeyframeImages = false; ///< store colour+depth in keyframes for dense outputs
   bool weightedRefit = true;       ///< final pose fit weighs pairs by their depth noise
+  bool depthWeightedEdges = true;  ///< edge weights (1 - θ') also scaled by depth noise
+  bool anisotropicRefinement = true; ///< Gauss-Newton pose refinement with ray-aligned noise
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Builds the rawlogs the application tests run on, once per build tree:
+#   real recordings from the shared data folder (skipped with a message when absent) and the
+#   project's own synthetic sequences (always). Usage: prepare-test-data.sh BIN_DIR DATA_DIR OUT
+set -euo pipefail
+bin=$1
+data=${SLAMDUNK_DATA_DIR:-$2}
+out=$3
+src=$(cd "$(dirname "$0")/../.." && pwd)
+mkdir -p "$out"
+
+convert() {  # convert NAME SEQ_DIR CAMERA_INI
+  local name=$1 seq=$data/$2 cam=$src/config-ini/cameras/$3
+  if [ ! -d "$seq" ]; then
+    echo "prepare-test-data: $seq not found: tests on $name will be skipped"
+    return
+  fi
+  if [ -f "$out/$name.rawlog" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
+  "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q
+}
+
+synthetic() {  # synthetic NAME TRAJECTORY
+  local name=$1
+  if [ -f "$out/$name.rawlog" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
+  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$2" -q
+}
+
+convert 7scenes 7scenes/seq-1000f 7scenes.ini
+convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
+convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
+synthetic synthetic_loop loop
+synthetic synthetic_sweep sweep
+ls -l "$out"

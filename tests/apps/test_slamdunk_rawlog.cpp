@@ -1,0 +1,257 @@
+// The offline app end to end: accuracy on synthetic and real sequences, determinism, bad input.
+// Rawlogs come from the prepare_test_data fixture (build/test-data).
+
+#include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/TumTrajectory.h>
+
+#include "TestData.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+
+#include <opencv2/core.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+namespace fs = std::filesystem;
+using namespace slamdunk;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+std::string testRawlog(const std::string& name) {
+  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
+  return fs::exists(p) ? p.string() : std::string();
+}
+
+std::string groundTruthOf(const std::string& rawlog) {
+  const fs::path p(rawlog);
+  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
+}
+
+#define REQUIRE_RAWLOG(var, name)                                                      \
+  const std::string var = testRawlog(name);                                            \
+  if (var.empty())                                                                     \
+  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
+               << test::dataDir() << ")"
+
+/// A number from the app's --json summary; NaN when absent.
+double jsonValue(const std::string& out, const std::string& key) {
+  const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
+  std::smatch m;
+  return std::regex_search(out, m, re) ? std::stod(m[1]) : std::nan("");
+}
+
+struct SlamRun {
+  test::CommandResult result;
+  std::string trajectory;
+  double value(const std::string& key) const { return jsonValue(result.output, key); }
+};
+
+SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std::string& extra = "",
+            bool withGt = true) {
+  SlamRun r;
+  r.trajectory = outDir + "/trajectory.txt";
+  std::string cmd = test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
+                    q(r.trajectory) + " --json -q " + extra;
+  if (withGt && fs::exists(groundTruthOf(rawlog))) cmd += " --gt " + q(groundTruthOf(rawlog));
+  r.result = test::runCommand(cmd);
+  return r;
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ accuracy
+
+TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("Slam_SyntheticLoop");
+  const SlamRun opt = runSlam(rawlog, dir);
+  ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
+  EXPECT_EQ(opt.value("lost"), 0) << opt.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
+  EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
+  EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
+
+  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoop_NoOpt"),
+                            "--no-optimization");
+  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
+      << "local optimization did not improve on tracking alone:\n"
+      << opt.result.output << track.result.output;
+}
+
+TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_SyntheticSweep"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
+}
+
+TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  const std::string config = test::sourceDir() + "/config-ini/slamdunk-default.ini";
+  const SlamRun opt = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), "--config " + q(config));
+  ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
+  EXPECT_EQ(opt.value("tracked"), 1000) << opt.result.output;
+  EXPECT_LE(opt.value("ate_rmse_m"), 0.045) << opt.result.output;
+
+  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_7Scenes_NoOpt"),
+                            "--config " + q(config) + " --no-optimization");
+  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
+  EXPECT_EQ(track.value("tracked"), 1000) << track.result.output;
+  EXPECT_LE(track.value("ate_rmse_m"), 0.06) << track.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
+      << opt.result.output << track.result.output;
+}
+
+TEST(SlamdunkRawlog, TumFr1DeskNineFrames) {
+  REQUIRE_RAWLOG(rawlog, "fr1_desk_9f");
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Fr1Desk"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), 9) << r.result.output;
+  EXPECT_LE(r.value("ate_rmse_m"), 0.01) << r.result.output;
+}
+
+TEST(SlamdunkRawlog, TumFr3CabinetWideBaselines) {
+  REQUIRE_RAWLOG(rawlog, "fr3_cabinet_58kf");
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Cabinet"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  std::cout << "fr3_cabinet_58kf: tracked " << r.value("tracked") << " of 58, ATE rmse "
+            << r.value("ate_rmse_m") << " m\n";
+  EXPECT_GE(r.value("tracked"), SLAMDUNK_CABINET_MIN_TRACKED) << r.result.output;
+  EXPECT_LE(r.value("ate_rmse_m"), 0.05) << r.result.output;
+}
+
+TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectories) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const SlamRun a = runSlam(rawlog, test::scratchDir("Slam_Determinism_A"));
+  const SlamRun b = runSlam(rawlog, test::scratchDir("Slam_Determinism_B"));
+  ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
+  ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
+  const std::string ta = readFile(a.trajectory), tb = readFile(b.trajectory);
+  EXPECT_GT(ta.size(), 1000u);
+  EXPECT_EQ(ta, tb);
+}
+
+TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectoriesOnRealData) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  const SlamRun a = runSlam(rawlog, test::scratchDir("Slam_Determinism7_A"), "--max-frames 300");
+  const SlamRun b = runSlam(rawlog, test::scratchDir("Slam_Determinism7_B"), "--max-frames 300");
+  ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
+  ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
+  EXPECT_EQ(readFile(a.trajectory), readFile(b.trajectory));
+}
+
+// ------------------------------------------------------------------ bad input
+
+namespace {
+
+/// The first `count` frames of a prepared rawlog, each passed through `edit`, written to `out`.
+template <class Edit>
+void writeEdited(const std::string& src, const std::string& out, size_t count, Edit edit) {
+  RawlogReader reader(src);
+  mrpt::io::CFileGZOutputStream f(out);
+  auto a = mrpt::serialization::archiveFrom(f);
+  for (size_t i = 0; i < count; ++i) {
+    auto obs = reader.next();
+    ASSERT_TRUE(obs);
+    obs->load();
+    edit(i, *obs);
+    a << *obs;
+  }
+}
+
+}  // namespace
+
+TEST(SlamdunkRawlogBadInput, ZeroDepthAndBlackFramesAreLostNotTracked) {
+  REQUIRE_RAWLOG(src, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamBad_ZeroDepth");
+  const std::string rawlog = dir + "/damaged.rawlog";
+  std::vector<double> damagedStamps;
+  writeEdited(src, rawlog, 30, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
+    if ((i >= 10 && i < 15) || i == 20 || i == 22) damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
+    if (i >= 10 && i < 15) o.rangeImage.fill(0);                       // all-zero depth
+    if (i == 20) o.intensityImage.asCvMatRef().setTo(cv::Scalar::all(0));  // black frame
+    if (i == 22) o.rangeImage_setSize(240, 320);                        // wrong depth size
+  });
+  const SlamRun r = runSlam(rawlog, dir, "", false);
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("frames"), 30) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 7) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), 23) << r.result.output;
+  const Trajectory t = readTumTrajectory(r.trajectory);
+  EXPECT_EQ(t.size(), 23u);
+  for (const auto& p : t)
+    for (double s : damagedStamps) EXPECT_GT(std::abs(p.timestamp - s), 1e-4);
+}
+
+TEST(SlamdunkRawlogBadInput, RawlogWithoutRangeScans) {
+  const std::string dir = test::scratchDir("SlamBad_NoScans");
+  {
+    mrpt::io::CFileGZOutputStream f(dir + "/odo.rawlog");
+    auto a = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 3; ++i) a << mrpt::obs::CObservationOdometry();
+  }
+  const SlamRun r = runSlam(dir + "/odo.rawlog", dir, "", false);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("no CObservation3DRangeScan"), std::string::npos)
+      << r.result.output;
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
+TEST(SlamdunkRawlogBadInput, MisspelledIniKeyKeepsExistingOutput) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamBad_Ini");
+  std::ofstream(dir + "/bad.ini") << "[tracker]\nratio_treshold = 0.7\n";
+  std::ofstream(dir + "/trajectory.txt") << "precious\n";
+  const SlamRun r = runSlam(rawlog, dir, "--config " + q(dir + "/bad.ini"));
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("ratio_treshold"), std::string::npos) << r.result.output;
+  EXPECT_EQ(readFile(dir + "/trajectory.txt"), "precious\n");
+}
+
+TEST(SlamdunkRawlogBadInput, MissingRawlogAndBadGroundTruth) {
+  const std::string dir = test::scratchDir("SlamBad_Missing");
+  SlamRun r = runSlam(dir + "/nope.rawlog", dir, "", false);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("nope.rawlog"), std::string::npos) << r.result.output;
+
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  std::ofstream(dir + "/gt.txt") << "1.0 0 0 0 0 0 0 1\n2.0 0 0 nan 0 0 0 1\n";
+  r = runSlam(rawlog, dir, "--gt " + q(dir + "/gt.txt"), false);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("gt.txt:2"), std::string::npos) << r.result.output;
+}
+
+TEST(SlamdunkRawlogBadInput, TruncatedRawlogKeepsTheFramesBeforeTheDamage) {
+  REQUIRE_RAWLOG(src, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamBad_Truncated");
+  writeEdited(src, dir + "/full.rawlog", 40, [](size_t, auto&) {});
+  const auto size = fs::file_size(dir + "/full.rawlog");
+  {
+    std::ifstream in(dir + "/full.rawlog", std::ios::binary);
+    std::string bytes(size / 2, '\0');
+    in.read(bytes.data(), bytes.size());
+    std::ofstream(dir + "/cut.rawlog", std::ios::binary).write(bytes.data(), bytes.size());
+  }
+  const SlamRun r = runSlam(dir + "/cut.rawlog", dir, "", false);
+  EXPECT_EQ(r.result.exitCode, 2) << r.result.output;
+  EXPECT_NE(r.result.output.find("truncated"), std::string::npos) << r.result.output;
+  const Trajectory t = readTumTrajectory(r.trajectory);
+  EXPECT_GT(t.size(), 10u);
+  EXPECT_LT(t.size(), 40u);
+}
