@@ -255,3 +255,26 @@ TEST(SlamdunkRawlogBadInput, TruncatedRawlogKeepsTheFramesBeforeTheDamage) {
   EXPECT_GT(t.size(), 10u);
   EXPECT_LT(t.size(), 40u);
 }
+
+// ------------------------------------------------------------------ threads
+
+// Tracking and local optimization in two threads (live use): the same accuracy bounds hold.
+// Run once under ThreadSanitizer too (cmake -DSLAMDUNK_TSAN=ON).
+TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
+  REQUIRE_RAWLOG(loop, "synthetic_loop");
+  const std::string dir = test::scratchDir("SlamThreads");
+  std::ofstream(dir + "/threaded.ini") << "[slam]\noptimizer_thread = true\n";
+  const SlamRun r = runSlam(loop, dir, "--config " + q(dir + "/threaded.ini"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
+  EXPECT_GE(r.value("optimizations"), 1) << r.result.output;
+
+  const std::string real = testRawlog("7scenes");
+  if (real.empty()) return;
+  const SlamRun s = runSlam(real, test::scratchDir("SlamThreads7"),
+                            "--config " + q(dir + "/threaded.ini"));
+  ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
+  EXPECT_EQ(s.value("tracked"), 1000) << s.result.output;
+  EXPECT_LE(s.value("ate_rmse_m"), 0.045) << s.result.output;
+}

@@ -31,8 +31,19 @@ void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
     adjacency_[a].push_back(b);
     adjacency_[b].push_back(a);
   }
-  for (const PointMatch& m : matchesAB)
-    e.matches.push_back(swap ? PointMatch{m.pointJ, m.pointI, m.weight} : m);
+  for (const PointMatch& m : matchesAB) {
+    if (!swap) {
+      e.matches.push_back(m);
+      continue;
+    }
+    // Stored from the smaller id's side: the information moves into keyframe b's frame
+    // through the relative rotation of the two keyframes at this time.
+    PointMatch flipped{m.pointJ, m.pointI, m.weight, m.information};
+    const Eigen::Matrix3d R_ba =
+        poses_.at(b).linear().transpose() * poses_.at(a).linear();  // b <- a
+    flipped.information = R_ba * m.information * R_ba.transpose();
+    e.matches.push_back(flipped);
+  }
 }
 
 size_t KeyframeGraph::keyframeCount() const {

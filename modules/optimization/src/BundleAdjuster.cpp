@@ -66,7 +66,7 @@ double BundleAdjuster::cost(const LocalProblem& p,
   for (const KeyframeEdge& e : p.edges) {
     const Pose rel = poseOf(p, freePoses, e.i).inverse() * poseOf(p, freePoses, e.j);
     for (const PointMatch& m : e.matches) {
-      const double s = (m.pointI - rel * m.pointJ).squaredNorm();
+      const double s = m.squaredError(rel);
       double rho[3] = {s, 1, 0};
       if (rho_) rho_->Evaluate(s, rho);
       total += m.weight * rho[0];
@@ -85,7 +85,7 @@ std::vector<std::vector<double>> BundleAdjuster::irlsWeights(
     w.reserve(e.matches.size());
     for (const PointMatch& m : e.matches) {
       double rho[3] = {0, 1, 0};
-      if (rho_) rho_->Evaluate((m.pointI - rel * m.pointJ).squaredNorm(), rho);
+      if (rho_) rho_->Evaluate(m.squaredError(rel), rho);
       w.push_back(m.weight * rho[1]);  // d/ds of w ρ(s): the weight of the quadratic majoriser
     }
   }
@@ -166,7 +166,7 @@ BundleAdjustmentResult BundleAdjuster::solveMatchForm(const LocalProblem& p) con
   for (const KeyframeEdge& e : p.edges) {
     for (const PointMatch& m : e.matches) {
       ceres::LossFunction* loss = rho_ ? &losses.emplace_back(rho_.get(), m.weight) : nullptr;
-      problem.AddResidualBlock(PointMatchResidual::create(m.pointI, m.pointJ, m.weight), loss,
+      problem.AddResidualBlock(PointMatchResidual::create(m.pointI, m.pointJ, m.weight, m.information), loss,
                                params.quaternion(e.i), params.translation(e.i),
                                params.quaternion(e.j), params.translation(e.j));
     }

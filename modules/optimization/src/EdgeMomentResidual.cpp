@@ -6,8 +6,8 @@ namespace slamdunk {
 
 EdgeMomentResidual::EdgeMomentResidual(const std::vector<PointMatch>& matches,
                                        const std::vector<double>& weights) {
-  // Centring the p_j keeps Σ u y yᵀ well conditioned (block-diagonal) whatever the distance
-  // of the points from the camera.
+  // Centring the p_j keeps M well conditioned whatever the distance of the points from the
+  // camera.
   double sumW = 0;
   Eigen::Vector3d sumP = Eigen::Vector3d::Zero();
   for (size_t k = 0; k < matches.size(); ++k) {
@@ -16,27 +16,34 @@ EdgeMomentResidual::EdgeMomentResidual(const std::vector<PointMatch>& matches,
   }
   centroidJ_ = sumW > 0 ? Eigen::Vector3d(sumP / sumW) : Eigen::Vector3d::Zero();
 
-  Eigen::Matrix4d Syy = Eigen::Matrix4d::Zero();
-  Eigen::Matrix<double, 3, 4> Spy = Eigen::Matrix<double, 3, 4>::Zero();
+  Matrix12 M = Matrix12::Zero();
+  Vector12 v = Vector12::Zero();
   for (size_t k = 0; k < matches.size(); ++k) {
+    const PointMatch& m = matches[k];
     Eigen::Vector4d y;
-    y << matches[k].pointJ - centroidJ_, 1.0;
-    Syy.noalias() += weights[k] * y * y.transpose();
-    Spy.noalias() += weights[k] * matches[k].pointI * y.transpose();
+    y << m.pointJ - centroidJ_, 1.0;
+    const Eigen::Matrix3d W = weights[k] * m.information;
+    const Eigen::Vector3d Wp = W * m.pointI;
+    for (int c = 0; c < 4; ++c) {
+      v.segment<3>(3 * c) += y[c] * Wp;
+      for (int d = c; d < 4; ++d) M.block<3, 3>(3 * c, 3 * d) += (y[c] * y[d]) * W;
+    }
   }
-  // Square root through the eigen-decomposition, not Cholesky: Syy is singular when the points
-  // are coplanar or fewer than four, and then only its range is constrained (Spy lies in it).
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(Syy);
-  const Eigen::Vector4d d = eig.eigenvalues();
+  M.triangularView<Eigen::StrictlyLower>() = M.transpose();
+  // Square root through the eigen-decomposition, not Cholesky: M is singular when the points
+  // are coplanar or fewer than four, and then only its range is constrained (v lies in it).
+  const Eigen::SelfAdjointEigenSolver<Matrix12> eig(M);
+  const Vector12 d = eig.eigenvalues();
   const double floor = 1e-12 * std::max(d.maxCoeff(), 0.0);
-  Eigen::Vector4d sqrtD, invSqrtD;
-  for (int n = 0; n < 4; ++n) {
+  Vector12 sqrtD, invSqrtD;
+  for (int n = 0; n < 12; ++n) {
     const bool kept = d[n] > floor && d[n] > 0;
     sqrtD[n] = kept ? std::sqrt(d[n]) : 0.0;
     invSqrtD[n] = kept ? 1.0 / sqrtD[n] : 0.0;
   }
-  L_ = eig.eigenvectors() * sqrtD.asDiagonal();
-  C_ = Spy * eig.eigenvectors() * invSqrtD.asDiagonal();
+  // S = V √D: Sᵀ = √D Vᵀ and S⁺ v = (√D)⁺ Vᵀ v.
+  sqrtMt_ = sqrtD.asDiagonal() * eig.eigenvectors().transpose();
+  offset_ = invSqrtD.asDiagonal() * (eig.eigenvectors().transpose() * v);
 }
 
 }  // namespace slamdunk

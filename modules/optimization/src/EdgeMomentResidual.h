@@ -1,10 +1,11 @@
 #pragma once
-// All the point matches of one edge as a single 12-component residual. For A = [R | R c + t]
-// (R, t = T_i⁻¹ T_j; c = weighted centroid of the p_j) and y = [p_j − c; 1]:
-//   Σ_k u_k ‖p_i − T_i⁻¹ T_j p_j‖² = Σ_k u_k ‖p_i − A y_k‖² = ‖A L − C‖²_F + constant,
-// with L Lᵀ = Σ u y yᵀ and C = (Σ u p_i yᵀ) L⁻ᵀ. Both forms are linear in A, so they have the same
-// minimiser and the same Gauss-Newton steps as the per-match residuals, but cost O(1) per edge
-// per iteration instead of O(matches): this is what keeps local problems of ~10⁴ matches fast.
+// All the point matches of one edge as a single 12-component residual. With the relative pose
+// as A = [R | R c + t] (R, t = T_i⁻¹ T_j; c = weighted centroid of the p_j), y = [p_j − c; 1] and
+// a = vec(A), each match's error is e = p_i − A y = p_i − (yᵀ ⊗ I) a, so
+//   Σ_k u_k e_kᵀ Ω_k e_k = aᵀ M a − 2 aᵀ v + const,  M = Σ u (y yᵀ ⊗ Ω),  v = Σ u (y ⊗ Ω p_i).
+// With M = S Sᵀ the residual Sᵀ a − S⁺ v has that squared norm up to a constant: the same
+// minimiser and Gauss-Newton steps as the per-match residuals, at O(1) cost per edge per
+// iteration instead of O(matches). This is what keeps local problems of ~10⁴ matches fast.
 
 #include <slamdunk/graph/KeyframeGraph.h>
 
@@ -19,7 +20,10 @@ namespace slamdunk {
 
 class EdgeMomentResidual {
  public:
-  /// weights[k] multiplies the squared error of matches[k] (its weight, or an IRLS weight).
+  using Matrix12 = Eigen::Matrix<double, 12, 12>;
+  using Vector12 = Eigen::Matrix<double, 12, 1>;
+
+  /// weights[k] multiplies the cost of matches[k] (its weight, or an IRLS weight).
   EdgeMomentResidual(const std::vector<PointMatch>& matches, const std::vector<double>& weights);
 
   template <typename T>
@@ -33,8 +37,9 @@ class EdgeMomentResidual {
     A.template leftCols<3>() = rotI.transpose() * rotJ;  // relative pose T_i⁻¹ T_j
     A.col(3) =
         A.template leftCols<3>() * centroidJ_.cast<T>() + rotI.transpose() * (transJ - transI);
-    Eigen::Map<Eigen::Matrix<T, 3, 4>> r(residual);
-    r = A * L_.cast<T>() - C_.cast<T>();
+    const Eigen::Map<const Eigen::Matrix<T, 12, 1>> a(A.data());  // column-major vec(A)
+    Eigen::Map<Eigen::Matrix<T, 12, 1>> r(residual);
+    r = sqrtMt_.cast<T>() * a - offset_.cast<T>();
     return true;
   }
 
@@ -45,8 +50,8 @@ class EdgeMomentResidual {
 
  private:
   Eigen::Vector3d centroidJ_;
-  Eigen::Matrix4d L_;
-  Eigen::Matrix<double, 3, 4> C_;
+  Matrix12 sqrtMt_;  ///< Sᵀ
+  Vector12 offset_;  ///< S⁺ v
 };
 
 }  // namespace slamdunk

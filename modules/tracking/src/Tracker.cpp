@@ -213,18 +213,36 @@ KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, c
 
 void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
                            const std::vector<PoolMatch>& inlierMatches) {
+  // Normalised so that a match of two points 1 m away keeps about the paper's weight.
+  static const double unitVariance = 2 * kNoise.variance(1.0);
+  const Eigen::Matrix3d R_new = graph_->pose(id).linear();
+  std::map<KeyframeId, Eigen::Matrix3d> relativeRotation;  // other <- new
   std::map<KeyframeId, std::vector<PointMatch>> perKeyframe;
   for (const PoolMatch& m : inlierMatches) {
     const PoolFeature& f = pool_.feature(m.pool);
-    double w = 1.0 - m.ratio;  // paper Sec. 4.3
-    if (options_.depthWeightedEdges) {
-      // Scaled by the match's inverse depth-noise variance, relative to a match at 1 m, so
-      // far (noisy) points pull the optimization less; the weight stays 1 - θ' at 1 m.
-      static const double atOneMetre = 2 * depthNoiseVariance(1.0);
-      w *= atOneMetre /
-           (depthNoiseVariance(f.pointKeyframe.z()) + depthNoiseVariance(features.points[m.query].z()));
+    const Eigen::Vector3d& pOther = f.pointKeyframe;
+    const Eigen::Vector3d& pNew = features.points[m.query];
+    PointMatch pm{pOther, pNew, 1.0 - m.ratio};  // paper Sec. 4.3: w = 1 - θ'
+    switch (options_.edgeInformation) {
+      case EdgeInformation::Paper:
+        break;
+      case EdgeInformation::Isotropic:
+        pm.weight *= unitVariance / (kNoise.variance(pOther.z()) + kNoise.variance(pNew.z()));
+        break;
+      case EdgeInformation::Anisotropic: {
+        auto it = relativeRotation.find(f.keyframe);
+        if (it == relativeRotation.end())
+          it = relativeRotation
+                   .emplace(f.keyframe, graph_->pose(f.keyframe).linear().transpose() * R_new)
+                   .first;
+        const Eigen::Matrix3d& R = it->second;
+        const Eigen::Matrix3d cov =
+            kNoise.covariance(pOther) + R * kNoise.covariance(pNew) * R.transpose();
+        pm.information = unitVariance * cov.inverse();
+        break;
+      }
     }
-    perKeyframe[f.keyframe].push_back({f.pointKeyframe, features.points[m.query], w});
+    perKeyframe[f.keyframe].push_back(pm);
   }
   for (const auto& [other, pm] : perKeyframe)
     if (static_cast<int>(pm.size()) >= options_.edgeMinMatches) graph_->addMatches(other, id, pm);

@@ -5,6 +5,23 @@
 
 namespace slamdunk {
 
+EdgeInformation edgeInformationFromString(const std::string& name) {
+  if (name == "paper") return EdgeInformation::Paper;
+  if (name == "isotropic") return EdgeInformation::Isotropic;
+  if (name == "anisotropic") return EdgeInformation::Anisotropic;
+  throw std::invalid_argument("edge_information = '" + name +
+                              "' (choose paper, isotropic or anisotropic)");
+}
+
+std::string toString(EdgeInformation e) {
+  switch (e) {
+    case EdgeInformation::Paper: return "paper";
+    case EdgeInformation::Isotropic: return "isotropic";
+    case EdgeInformation::Anisotropic: return "anisotropic";
+  }
+  return "?";
+}
+
 void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& section) {
   IniSectionReader r(cfg, section);
@@ -18,7 +35,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   maxTranslationJump = r.readDouble("max_translation_jump", maxTranslationJump);
   keepKeyframeImages = r.readBool("keep_keyframe_images", keepKeyframeImages);
   weightedRefit = r.readBool("weighted_refit", weightedRefit);
-  depthWeightedEdges = r.readBool("depth_weighted_edges", depthWeightedEdges);
+  edgeInformation =
+      edgeInformationFromString(r.readString("edge_information", toString(edgeInformation)));
   anisotropicRefinement = r.readBool("anisotropic_refinement", anisotropicRefinement);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
@@ -73,7 +91,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "max_translation_jump", maxTranslationJump);
   cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
   cfg.write(s, "weighted_refit", weightedRefit);
-  cfg.write(s, "depth_weighted_edges", depthWeightedEdges);
+  cfg.write(s, "edge_information", toString(edgeInformation));
   cfg.write(s, "anisotropic_refinement", anisotropicRefinement);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);

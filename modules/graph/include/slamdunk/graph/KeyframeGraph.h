@@ -13,10 +13,20 @@
 namespace slamdunk {
 
 /// One feature match between two keyframes, as 3D points in each keyframe's own frame.
+/// Its cost is weight · eᵀ Ω e with e = p_i − T_i⁻¹ T_j p_j (paper Eq. 4-5 when Ω = I).
 struct PointMatch {
   Eigen::Vector3d pointI;  ///< in keyframe i's optical frame
   Eigen::Vector3d pointJ;  ///< in keyframe j's optical frame
   double weight = 1.0;     ///< 1 - θ' (paper Sec. 4.3)
+  /// Normalised information of e in keyframe i's frame (symmetric positive definite). The
+  /// identity is the paper's isotropic cost; a depth-noise model makes it ray-aligned.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+
+  /// eᵀ Ω e for a relative pose T_i⁻¹ T_j (without the weight).
+  double squaredError(const Eigen::Isometry3d& relative) const {
+    const Eigen::Vector3d e = pointI - relative * pointJ;
+    return e.dot(information * e);
+  }
 };
 
 /// Edge between keyframes i < j carrying their matches (paper Eq. 4-5).

@@ -9,6 +9,12 @@
 
 namespace slamdunk {
 
+/// How graph edges weigh their matches: the paper's w = 1 - θ' alone, or also by the depth
+/// noise of the two points, as a scalar or as a ray-aligned (anisotropic) information matrix.
+enum class EdgeInformation { Paper, Isotropic, Anisotropic };
+EdgeInformation edgeInformationFromString(const std::string& name);
+std::string toString(EdgeInformation e);
+
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
   double windowSize = 5.0;     ///< W: side of the active window square, metres
   double windowShift = 0.25;   ///< T: move the window when the camera is this far from its centre
@@ -20,7 +26,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   double maxTranslationJump = 0.5; ///< metres between consecutive tracked frames (not when lost)
   bool keepKeyframeImages = false; ///< store colour+depth in keyframes for dense outputs
   bool weightedRefit = true;       ///< final pose fit weighs pairs by their depth noise
-  bool depthWeightedEdges = true;  ///< edge weights (1 - θ') also scaled by depth noise
+  EdgeInformation edgeInformation = EdgeInformation::Isotropic;  ///< how edges weigh matches
   bool anisotropicRefinement = true; ///< Gauss-Newton pose refinement with ray-aligned noise
   FeaturePoolOptions pool;
   RansacOptions ransac;
