@@ -20,9 +20,10 @@ TEST(TimestampAssociation, GreedyBySmallestDifferenceOneToOne) {
 
 TEST(TimestampAssociation, UnsortedInputAndEmpty) {
   EXPECT_TRUE(associateTimestamps({}, {1.0}).empty());
+  // Sorted by stamp: a = 1.0 (index 1) pairs with b = 1.001 (index 2), and so on.
   const auto p = associateTimestamps({3.0, 1.0, 2.0}, {2.001, 3.001, 1.001});
   ASSERT_EQ(p.size(), 3u);
-  EXPECT_EQ(p[0].second, 1u);
-  EXPECT_EQ(p[1].second, 2u);
-  EXPECT_EQ(p[2].second, 0u);
+  EXPECT_EQ(p[0], std::make_pair(size_t(1), size_t(2)));
+  EXPECT_EQ(p[1], std::make_pair(size_t(2), size_t(0)));
+  EXPECT_EQ(p[2], std::make_pair(size_t(0), size_t(1)));
 }

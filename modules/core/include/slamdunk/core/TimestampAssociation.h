@@ -1,6 +1,7 @@
 #pragma once
-// The TUM benchmark's association of two stamp lists (associate.py): candidate pairs with
-// |a - b| < maxDifference, taken greedily by smallest difference, one-to-one.
+// The TUM benchmark's association of two stamp lists (associate.py): every pair with
+// |a - (b + offset)| < maxDifference is a candidate; candidates are taken greedily by increasing
+// difference (ties by a, then b, as Python's tuple sort does), each stamp used once.
 
 #include <cstddef>
 #include <utility>
@@ -8,9 +9,10 @@
 
 namespace slamdunk {
 
-/// Index pairs (i into a, j into b), sorted by a's index.
+/// Index pairs (i into a, j into b), sorted by (a[i], b[j]). Works on unsorted input.
 std::vector<std::pair<size_t, size_t>> associateTimestamps(const std::vector<double>& a,
                                                            const std::vector<double>& b,
-                                                           double maxDifference = 0.02);
+                                                           double maxDifference = 0.02,
+                                                           double offset = 0.0);
 
 }  // namespace slamdunk
