@@ -1,3 +1,4 @@
+#include <slamdunk/tracking/DepthNoiseModel.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 
 #include <Eigen/Cholesky>
@@ -14,13 +15,81 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }
 }  // namespace
 
+cv::Mat subsampleDepth(const cv::Mat& depth, int stride) {
+  cv::Mat out((depth.rows + stride - 1) / stride, (depth.cols + stride - 1) / stride, CV_32F);
+  for (int r = 0; r < out.rows; ++r)
+    for (int c = 0; c < out.cols; ++c) out.at<float>(r, c) = depth.at<float>(r * stride, c * stride);
+  return out;
+}
+
+CameraIntrinsics scaleIntrinsics(const CameraIntrinsics& K, int stride) {
+  // Subsampled pixel (c, r) is original pixel (c·s, r·s).
+  CameraIntrinsics k = K;
+  k.fx /= stride;
+  k.fy /= stride;
+  k.cx /= stride;
+  k.cy /= stride;
+  k.width = (K.width + stride - 1) / stride;
+  k.height = (K.height + stride - 1) / stride;
+  k.dist = {0, 0, 0, 0, 0};
+  return k;
+}
+
+namespace {
+
+/// Adds the point-to-plane terms of the depth alignment to the normal equations.
+void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas,
+                  Eigen::Matrix<double, 6, 6>& H, Eigen::Matrix<double, 6, 1>& g) {
+  static const DepthNoiseModel noise;
+  const Pose refFromWorld = d.worldFromReference.inverse();
+  const Eigen::Matrix3d Rrw = refFromWorld.linear();
+  const cv::Mat& D = d.referenceDepth;
+  const CameraIntrinsics& K = d.referenceIntrinsics;
+  auto pointAt = [&](int u, int v, Eigen::Vector3d& p) {
+    if (u < 0 || v < 0 || u >= D.cols || v >= D.rows) return false;
+    const float z = D.at<float>(v, u);
+    if (!(z > 0)) return false;
+    p = K.backProject(u, v, z);
+    return true;
+  };
+  for (const Eigen::Vector3d& pc : d.framePoints) {
+    const Eigen::Vector3d x = T * pc;      // world
+    const Eigen::Vector3d q = refFromWorld * x;  // reference camera frame
+    if (q.z() <= 0.1) continue;
+    const Eigen::Vector2d uv = K.project(q);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    Eigen::Vector3d p0, px, py;
+    if (!pointAt(u, v, p0) || !pointAt(u + 1, v, px) || !pointAt(u, v + 1, py)) continue;
+    Eigen::Vector3d n = (px - p0).cross(py - p0);
+    const double nn = n.norm();
+    if (nn < 1e-12) continue;
+    n /= nn;
+    if (std::abs(n.dot(p0.normalized())) < 0.3) continue;  // grazing surfaces: unreliable depth
+    const double r = n.dot(q - p0);
+    if (std::abs(r) > d.maxDistance || (q - p0).norm() > 2 * d.maxDistance) continue;
+    const double sigma = noise.depthSigma(p0.z()) + noise.depthSigma(pc.z());
+    const double m = std::abs(r) / sigma;
+    const double w = d.weight * (m <= huberSigmas ? 1.0 : huberSigmas / m) / (sigma * sigma);
+    // dq/dδ = R_rw [I, -[x]×] for a left perturbation of the world pose.
+    Eigen::Matrix<double, 1, 6> J;
+    const Eigen::RowVector3d nR = n.transpose() * Rrw;
+    J.leftCols<3>() = nR;
+    J.rightCols<3>() = -nR * skew(x);
+    H += w * J.transpose() * J;
+    g += w * J.transpose() * r;
+  }
+}
+
+}  // namespace
+
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
-                const PoseRefinementOptions& options) {
+                const PoseRefinementOptions& options, const DepthAlignmentTerm* depth) {
   Pose T = initial;
-  if (pairs.size() < 3) return T;
+  if (pairs.size() < 3 && !depth) return T;
   for (int it = 0; it < options.iterations; ++it) {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    if (depth) addDepthTerm(T, *depth, options.huberSigmas, H, g);
     const Eigen::Matrix3d R = T.linear();
     for (const PosePair& p : pairs) {
       const Eigen::Vector3d q = T * p.source;

@@ -41,6 +41,11 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
     nextKeyframeId_ = std::max(nextKeyframeId_, id + 1);
     newestKeyframe_ = id;
   }
+  if (graph_->keyframeCount() > 0) {
+    // Starting from a saved map: the camera is somewhere in it; the first frames relocalize.
+    syncQuadTree();
+    lost_ = true;
+  }
 }
 
 Tracker::~Tracker() = default;
@@ -58,6 +63,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 
   auto lostBecause = [&](std::string why) {
     lost_ = true;
+    ++framesLost_;
     r.status = TrackingStatus::Lost;
     r.lostReason = std::move(why);
     r.timings.total = msSince(start);
@@ -83,58 +89,24 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   }
   r.timings.pool = msSince(t);
 
-  t = Clock::now();
-  const std::vector<PoolMatch> matches =
-      pool_.match(features.descriptors, options_.ratioThreshold);
-  r.timings.matching = msSince(t);
-  r.matches = matches.size();
-
-  t = Clock::now();
-  std::vector<Eigen::Vector3d> src, dst;
-  std::vector<double> weights;
-  src.reserve(matches.size());
-  dst.reserve(matches.size());
-  for (const PoolMatch& m : matches) {
-    const PoolFeature& f = pool_.feature(m.pool);
-    src.push_back(features.points[m.query]);
-    dst.push_back(f.pointWorld);
-    weights.push_back(1.0 / (depthNoiseVariance(src.back().z()) +
-                             depthNoiseVariance(f.pointKeyframe.z())));
-  }
-  const RansacResult ransac = ransacAbsoluteOrientation(
-      src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
-  r.timings.ransac = msSince(t);
-  if (!ransac.success)
-    return lostBecause("only " + std::to_string(ransac.inlierCount) + " RANSAC inliers among " +
-                       std::to_string(matches.size()) + " matches");
-  if (!lost_ && options_.maxTranslationJump > 0 &&
-      translationDistance(ransac.transform, lastPose_) > options_.maxTranslationJump)
-    return lostBecause("implausible jump of " +
-                       std::to_string(translationDistance(ransac.transform, lastPose_)) + " m");
-
-  Pose pose = ransac.transform;
-  if (options_.anisotropicRefinement) {
-    std::vector<PosePair> pairs;
-    pairs.reserve(ransac.inlierCount);
-    for (size_t i = 0; i < matches.size(); ++i) {
-      if (!ransac.inliers[i]) continue;
-      const PoolFeature& f = pool_.feature(matches[i].pool);
-      pairs.push_back({src[i], dst[i], kNoise.covariance(src[i]), f.covarianceWorld});
-    }
-    pose = refinePose(pose, pairs);
-  }
+  std::vector<PoolMatch> inlierMatches;
+  Pose pose;
+  const bool startingFromMap = lost_ && framesLost_ == 0;  // a loaded map, nothing tracked yet
+  bool registered = !startingFromMap && registerFrame(pool_, frame, features, r, inlierMatches, pose);
+  if (!registered &&
+      (startingFromMap ||
+       (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
+    registered = relocalize(frame, features, r, inlierMatches, pose);
+  if (!registered) return lostBecause(r.lostReason);
   r.pose = pose;
-  r.inliers = ransac.inlierCount;
   r.status = TrackingStatus::Tracked;
 
-  std::vector<PoolMatch> inlierMatches;
   std::vector<cv::Point2f> inlierPixels, allPixels;
   std::map<KeyframeId, size_t> inliersPerKeyframe;
-  for (size_t i = 0; i < matches.size(); ++i) {
-    if (!ransac.inliers[i]) continue;
-    inlierMatches.push_back(matches[i]);
-    inlierPixels.push_back(features.keypoints[matches[i].query].pt);
-    ++inliersPerKeyframe[pool_.feature(matches[i].pool).keyframe];
+  const FeaturePool& usedPool = r.relocalized ? globalPool_ : pool_;
+  for (const PoolMatch& m : inlierMatches) {
+    inlierPixels.push_back(features.keypoints[m.query].pt);
+    ++inliersPerKeyframe[usedPool.feature(m.pool).keyframe];
   }
   for (const auto& kp : features.keypoints) allPixels.push_back(kp.pt);
   r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
@@ -145,8 +117,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     if (n > inliersPerKeyframe[reference]) reference = id;
   }
 
-  bool spawn = policy_.shouldSpawn(r.overlap);
-  if (!spawn && closesMetricLoop(r.matchedKeyframes)) {
+  bool spawn = !r.relocalized && policy_.shouldSpawn(r.overlap);
+  if (!spawn && !r.relocalized && closesMetricLoop(r.matchedKeyframes)) {
     spawn = true;
     r.loopClosure = true;
   }
@@ -163,17 +135,127 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   } else {
     r.reference = reference;
     r.poseInReference = graph_->pose(reference).inverse() * pose;
-    if (translationDistance(pose, windowCenter_) > options_.windowShift) {
-      // Paper Sec. 4.1 "Shift": the window follows the camera without a new keyframe.
+    if (r.relocalized || translationDistance(pose, windowCenter_) > options_.windowShift) {
+      // Paper Sec. 4.1 "Shift": the window follows the camera without a new keyframe (and
+      // jumps to wherever relocalization put it).
       t = Clock::now();
+      syncQuadTree();
       rebuildPool(pose, frame.intrinsics());
       r.timings.pool += msSince(t);
     }
   }
   lastPose_ = pose;
   lost_ = false;
+  framesLost_ = 0;
   r.timings.total = msSince(start);
   return r;
+}
+
+bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
+                            const FeatureSet& features, TrackingResult& r,
+                            std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+  auto t = Clock::now();
+  const std::vector<PoolMatch> matches = pool.match(features.descriptors, options_.ratioThreshold);
+  r.timings.matching += msSince(t);
+  r.matches = matches.size();
+
+  t = Clock::now();
+  std::vector<Eigen::Vector3d> src, dst;
+  std::vector<double> weights;
+  src.reserve(matches.size());
+  dst.reserve(matches.size());
+  for (const PoolMatch& m : matches) {
+    const PoolFeature& f = pool.feature(m.pool);
+    src.push_back(features.points[m.query]);
+    dst.push_back(f.pointWorld);
+    weights.push_back(1.0 / (depthNoiseVariance(src.back().z()) +
+                             depthNoiseVariance(f.pointKeyframe.z())));
+  }
+  const RansacResult ransac = ransacAbsoluteOrientation(
+      src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
+  if (!ransac.success) {
+    r.timings.ransac += msSince(t);
+    r.lostReason = "only " + std::to_string(ransac.inlierCount) + " RANSAC inliers among " +
+                   std::to_string(matches.size()) + " matches";
+    return false;
+  }
+  pose = ransac.transform;
+  if (options_.anisotropicRefinement) {
+    std::vector<PosePair> pairs;
+    pairs.reserve(ransac.inlierCount);
+    for (size_t i = 0; i < matches.size(); ++i)
+      if (ransac.inliers[i])
+        pairs.push_back({src[i], dst[i], kNoise.covariance(src[i]),
+                         pool.feature(matches[i].pool).covarianceWorld});
+    const auto depthTerm = depthTermFor(frame, pool, matches, ransac.inliers);
+    pose = refinePose(pose, pairs, {}, depthTerm ? &*depthTerm : nullptr);
+  }
+  r.timings.ransac += msSince(t);
+  if (!lost_ && options_.maxTranslationJump > 0 &&
+      translationDistance(pose, lastPose_) > options_.maxTranslationJump) {
+    r.lostReason = "implausible jump of " + std::to_string(translationDistance(pose, lastPose_)) +
+                   " m";
+    return false;
+  }
+  r.inliers = ransac.inlierCount;
+  inlierMatches.clear();
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (ransac.inliers[i]) inlierMatches.push_back(matches[i]);
+  return true;
+}
+
+std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
+                                                       const FeaturePool& pool,
+                                                       const std::vector<PoolMatch>& matches,
+                                                       const std::vector<bool>& inliers) const {
+  if (options_.depthAlignmentWeight <= 0) return std::nullopt;
+  std::map<KeyframeId, size_t> count;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (inliers[i]) ++count[pool.feature(matches[i].pool).keyframe];
+  if (count.empty()) return std::nullopt;
+  KeyframeId best = count.begin()->first;
+  for (const auto& [id, n] : count)
+    if (n > count[best]) best = id;
+  const KeyframePtr kf = graph_->keyframe(best);
+  if (kf->depthSmall.empty()) return std::nullopt;
+
+  DepthAlignmentTerm term;
+  term.referenceDepth = kf->depthSmall;
+  term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
+  term.worldFromReference = graph_->pose(best);
+  term.weight = options_.depthAlignmentWeight;
+  term.maxDistance = options_.depthAlignmentMaxDistance;
+  const int stride = options_.depthAlignmentStride;
+  const cv::Mat& depth = frame.depth();
+  for (int v = stride / 2; v < depth.rows; v += stride)
+    for (int u = stride / 2; u < depth.cols; u += stride)
+      if (const auto p = frame.backProject(u, v); p && p->z() < options_.depthAlignmentMaxDepth)
+        term.framePoints.push_back(*p);
+  return term;
+}
+
+bool Tracker::relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
+                         std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+  auto t = Clock::now();
+  const size_t keyframes = graph_->keyframeCount();
+  if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
+    // No frustum: the camera may be anywhere in the map.
+    FeaturePoolOptions o = options_.pool;
+    o.frustumFilter = false;
+    globalPool_ = FeaturePool(o);
+    globalPool_.build(*graph_, graph_->ids(), Pose::Identity(), frame.intrinsics());
+    globalPoolKeyframes_ = keyframes;
+  }
+  r.timings.pool += msSince(t);
+  const std::string localReason = r.lostReason;
+  if (!registerFrame(globalPool_, frame, features, r, inlierMatches, pose) ||
+      static_cast<int>(r.inliers) < options_.relocalizeMinInliers) {
+    r.lostReason = (localReason.empty() ? "" : localReason + "; ") +
+                   "not relocalized in the map (" + std::to_string(r.inliers) + " inliers)";
+    return false;
+  }
+  r.relocalized = true;
+  return true;
 }
 
 TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features,
@@ -198,6 +280,8 @@ KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, c
   kf->timestamp = frame.timestamp();
   kf->features = std::move(features);
   kf->intrinsics = frame.intrinsics();
+  kf->depthSmallStride = 4;
+  kf->depthSmall = subsampleDepth(frame.depth(), kf->depthSmallStride);
   if (options_.keepKeyframeImages) {
     kf->colour = frame.colour().empty() ? frame.grey().clone() : frame.colour().clone();
     kf->depth = frame.depth().clone();

@@ -32,12 +32,19 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   loopMinInliers = r.readInt("loop_min_inliers", loopMinInliers);
   edgeMinMatches = r.readInt("edge_min_matches", edgeMinMatches);
   minFeatures = r.readInt("min_features", minFeatures);
+  relocalizeAfter = r.readInt("relocalize_after", relocalizeAfter);
+  relocalizeMinInliers = r.readInt("relocalize_min_inliers", relocalizeMinInliers);
   maxTranslationJump = r.readDouble("max_translation_jump", maxTranslationJump);
   keepKeyframeImages = r.readBool("keep_keyframe_images", keepKeyframeImages);
   weightedRefit = r.readBool("weighted_refit", weightedRefit);
   edgeInformation =
       edgeInformationFromString(r.readString("edge_information", toString(edgeInformation)));
   anisotropicRefinement = r.readBool("anisotropic_refinement", anisotropicRefinement);
+  depthAlignmentWeight = r.readDouble("depth_alignment_weight", depthAlignmentWeight);
+  depthAlignmentStride = r.readInt("depth_alignment_stride", depthAlignmentStride);
+  depthAlignmentMaxDistance =
+      r.readDouble("depth_alignment_max_distance", depthAlignmentMaxDistance);
+  depthAlignmentMaxDepth = r.readDouble("depth_alignment_max_depth", depthAlignmentMaxDepth);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
@@ -69,6 +76,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(windowShift >= 0, "window_shift must be >= 0");
   require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
   require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
+  require(depthAlignmentWeight >= 0, "depth_alignment_weight must be >= 0");
+  require(depthAlignmentStride >= 1, "depth_alignment_stride must be >= 1");
   require(pool.searchThreads >= 1, "search_threads must be >= 1");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
@@ -88,11 +97,17 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "loop_min_inliers", loopMinInliers);
   cfg.write(s, "edge_min_matches", edgeMinMatches);
   cfg.write(s, "min_features", minFeatures);
+  cfg.write(s, "relocalize_after", relocalizeAfter);
+  cfg.write(s, "relocalize_min_inliers", relocalizeMinInliers);
   cfg.write(s, "max_translation_jump", maxTranslationJump);
   cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
   cfg.write(s, "weighted_refit", weightedRefit);
   cfg.write(s, "edge_information", toString(edgeInformation));
   cfg.write(s, "anisotropic_refinement", anisotropicRefinement);
+  cfg.write(s, "depth_alignment_weight", depthAlignmentWeight);
+  cfg.write(s, "depth_alignment_stride", depthAlignmentStride);
+  cfg.write(s, "depth_alignment_max_distance", depthAlignmentMaxDistance);
+  cfg.write(s, "depth_alignment_max_depth", depthAlignmentMaxDepth);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

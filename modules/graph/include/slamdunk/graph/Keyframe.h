@@ -23,6 +23,10 @@ struct Keyframe {
   /// Kept only when dense outputs are wanted (colour BGR and depth in metres); may be empty.
   cv::Mat colour;
   cv::Mat depth;
+  /// Depth (CV_32F metres) subsampled by `depthSmallStride` for dense alignment; always kept,
+  /// it costs 77 KB for a VGA frame at stride 4. May be empty (the alignment is then skipped).
+  cv::Mat depthSmall;
+  int depthSmallStride = 4;
 };
 using KeyframePtr = std::shared_ptr<const Keyframe>;
 

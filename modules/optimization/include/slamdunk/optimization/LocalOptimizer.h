@@ -32,7 +32,7 @@ struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   /// unlike Cauchy it still closes loops whose residuals start far above the scale.
   /// "none" is the paper's plain weighted least squares.
   RobustLoss robustLoss = RobustLoss::Huber;
-  double robustLossScale = 0.02;  ///< metres of ‖e‖ where the robust loss starts to bend
+  double robustLossScale = 0.03;  ///< metres of ‖e‖ where the robust loss starts to bend
   int maxIterations = 15;         ///< Levenberg-Marquardt cap: keeps the worst case bounded
   double functionTolerance = 1e-6;
   int numThreads = 1;          ///< 1 keeps results bit-reproducible

@@ -3,7 +3,10 @@
 // anisotropic depth noise (Gauss-Newton on SE(3), Huber-robust). Beyond the paper: RANSAC's
 // isotropic least squares lets the noisy depth of far points pull the pose along their rays.
 
+#include <slamdunk/core/CameraIntrinsics.h>
 #include <slamdunk/core/Pose.h>
+
+#include <opencv2/core.hpp>
 
 #include <Eigen/Core>
 #include <vector>
@@ -22,8 +25,27 @@ struct PoseRefinementOptions {
   double huberSigmas = 2.5;  ///< residuals beyond this many standard deviations are down-weighted
 };
 
-/// Returns the refined T (maps source to target), starting from `initial`.
+/// Dense term: points of the current frame's depth aligned point-to-plane with the depth of a
+/// reference keyframe (projective association). Beyond the paper: it constrains the pose where
+/// features are few or imprecise, with the depth sensor's own geometry.
+struct DepthAlignmentTerm {
+  std::vector<Eigen::Vector3d> framePoints;  ///< subsampled current-frame points, camera frame
+  cv::Mat referenceDepth;                    ///< CV_32F metres, subsampled
+  CameraIntrinsics referenceIntrinsics;      ///< scaled to referenceDepth's resolution
+  Pose worldFromReference = Pose::Identity();
+  double maxDistance = 0.05;  ///< metres: farther associations are not the same surface
+  double weight = 1.0;        ///< relative to the feature term
+};
+
+/// Returns the refined T (maps source to target), starting from `initial`. With a depth term,
+/// both terms are minimised jointly.
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
-                const PoseRefinementOptions& options = {});
+                const PoseRefinementOptions& options = {},
+                const DepthAlignmentTerm* depth = nullptr);
+
+/// Subsamples a depth image (keeps the pixel at each stride step; 0 stays invalid).
+cv::Mat subsampleDepth(const cv::Mat& depth, int stride);
+/// Intrinsics of an image subsampled by stride (pixel centres stay consistent).
+CameraIntrinsics scaleIntrinsics(const CameraIntrinsics& K, int stride);
 
 }  // namespace slamdunk

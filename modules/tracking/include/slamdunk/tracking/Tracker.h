@@ -10,12 +10,14 @@
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/QuadTree.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
 #include <atomic>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,7 @@ struct TrackingResult {
   Pose poseInReference = Pose::Identity();  ///< T_reference_frame
   bool newKeyframe = false;
   bool loopClosure = false;  ///< the new keyframe was promoted by the metric-loop test
+  bool relocalized = false;  ///< registered against the whole map after being lost
   KeyframeId keyframeId = 0; ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;
   double overlap = 0;
@@ -64,6 +67,16 @@ class Tracker {
 
  private:
   TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r);
+  /// Matches against `pool` and estimates the pose; false (with r.lostReason) on failure.
+  bool registerFrame(const FeaturePool& pool, const RgbdFrame& frame, const FeatureSet& features,
+                     TrackingResult& r, std::vector<PoolMatch>& inlierMatches, Pose& pose);
+  /// Dense depth term against the keyframe sharing most inliers (empty if it has no depth).
+  std::optional<DepthAlignmentTerm> depthTermFor(const RgbdFrame& frame, const FeaturePool& pool,
+                                                 const std::vector<PoolMatch>& matches,
+                                                 const std::vector<bool>& inliers) const;
+  /// Tries the whole map when the local window does not match (lost, or a loaded map).
+  bool relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
+                  std::vector<PoolMatch>& inlierMatches, Pose& pose);
   KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
   void linkKeyframe(KeyframeId id, const FeatureSet& features,
                     const std::vector<PoolMatch>& inlierMatches);
@@ -78,6 +91,9 @@ class Tracker {
   QuadTree quadTree_;
   std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
   FeaturePool pool_;
+  FeaturePool globalPool_;           ///< every keyframe, for relocalization
+  size_t globalPoolKeyframes_ = 0;   ///< keyframe count when globalPool_ was built
+  size_t framesLost_ = 0;
   Pose windowCenter_ = Pose::Identity();
   Pose lastPose_ = Pose::Identity();
   bool lost_ = false;

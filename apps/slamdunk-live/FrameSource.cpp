@@ -1,0 +1,52 @@
+#include "FrameSource.h"
+
+#include "ReplayFrameSource.h"
+#include "SensorFrameSource.h"
+
+#include <slamdunk/core/IniOptions.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace slamdunk::live {
+
+namespace {
+std::string resolve(const std::string& path, const std::string& baseDir) {
+  const std::filesystem::path p(path);
+  return p.is_relative() && !baseDir.empty() ? (std::filesystem::path(baseDir) / p).string() : path;
+}
+}  // namespace
+
+std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase& cfg,
+                                             const std::string& section, const std::string& iniDir,
+                                             const SourceOverrides& overrides,
+                                             double frameTimeoutSeconds) {
+  if (!cfg.sectionExists(section))
+    throw std::runtime_error("source section [" + section + "] is not in the INI");
+  const std::string driver = cfg.read_string(section, "driver", "");
+  if (driver.empty())
+    throw std::runtime_error("[" + section +
+                             "] has no 'driver' key (replay, or an MRPT sensor "
+                             "class such as COpenNI2Sensor)");
+  if (driver == "replay") {
+    // Our own section: read strictly, so a misspelled key is an error, not a silent default.
+    IniSectionReader r(cfg, section);
+    r.readString("driver", "");
+    std::string rawlog = r.readString("rawlog", "");
+    double speed = r.readDouble("speed", 1.0);
+    r.rejectUnknownKeys();
+    rawlog = overrides.rawlog ? *overrides.rawlog : resolve(rawlog, iniDir);
+    if (overrides.speed) speed = *overrides.speed;
+    if (rawlog.empty())
+      throw std::runtime_error("no rawlog to replay: set [" + section +
+                               "] rawlog or pass --rawlog");
+    if (!(speed > 0)) throw std::runtime_error("replay speed must be > 0 (1 = real time)");
+    return std::make_unique<ReplayFrameSource>(rawlog, speed);
+  }
+  if (overrides.rawlog || overrides.speed)
+    throw std::runtime_error("--rawlog and --speed apply to a replay source only; [" + section +
+                             "] uses driver " + driver);
+  return std::make_unique<SensorFrameSource>(cfg, section, driver, frameTimeoutSeconds);
+}
+
+}  // namespace slamdunk::live

@@ -1,0 +1,46 @@
+#include "LatestFrameQueue.h"
+
+#include <algorithm>
+
+namespace slamdunk::live {
+
+LatestFrameQueue::LatestFrameQueue(size_t capacity) : capacity_(std::max<size_t>(1, capacity)) {}
+
+bool LatestFrameQueue::push(FramePtr frame) {
+  bool dropped = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (frames_.size() >= capacity_) {
+      frames_.pop_front();
+      ++dropped_;
+      dropped = true;
+    }
+    frames_.push_back(std::move(frame));
+  }
+  ready_.notify_one();
+  return dropped;
+}
+
+LatestFrameQueue::FramePtr LatestFrameQueue::pop() {
+  std::unique_lock lock(mutex_);
+  ready_.wait(lock, [&] { return !frames_.empty() || closed_; });
+  if (frames_.empty()) return nullptr;
+  FramePtr f = std::move(frames_.front());
+  frames_.pop_front();
+  return f;
+}
+
+void LatestFrameQueue::close() {
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+  }
+  ready_.notify_all();
+}
+
+size_t LatestFrameQueue::dropped() const {
+  std::lock_guard lock(mutex_);
+  return dropped_;
+}
+
+}  // namespace slamdunk::live

@@ -1,0 +1,38 @@
+#pragma once
+// The hand-off between the grabber and the tracker. A camera cannot be paused, so when tracking
+// falls behind the OLDEST waiting frame is dropped (and counted): the tracker always works on
+// the most recent frames and the delay between capture and pose stays bounded.
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+
+namespace slamdunk::live {
+
+class LatestFrameQueue {
+ public:
+  using FramePtr = mrpt::obs::CObservation3DRangeScan::Ptr;
+
+  /// capacity >= 1 frames may wait; 1 = strictly the latest frame.
+  explicit LatestFrameQueue(size_t capacity);
+
+  /// Never blocks. Returns true if the oldest waiting frame had to be dropped to make room.
+  bool push(FramePtr frame);
+  /// Blocks until a frame is waiting (returns it) or the queue is closed and empty (nullptr).
+  FramePtr pop();
+  /// No more frames will come: pop() returns what is left, then nullptr.
+  void close();
+  size_t dropped() const;
+
+ private:
+  const size_t capacity_;
+  mutable std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<FramePtr> frames_;
+  size_t dropped_ = 0;
+  bool closed_ = false;
+};
+
+}  // namespace slamdunk::live

@@ -1,0 +1,114 @@
+#include "LivePipeline.h"
+
+namespace slamdunk::live {
+
+LivePipeline::LivePipeline(FrameSource& source, SlamSystem& slam, size_t queueCapacity,
+                           RawlogRecorder* recorder, size_t maxFrames)
+    : source_(source),
+      slam_(slam),
+      recorder_(recorder),
+      maxFrames_(maxFrames),
+      queue_(queueCapacity) {}
+
+LivePipeline::~LivePipeline() {
+  requestStop();
+  join();
+}
+
+void LivePipeline::start() {
+  tracker_ = std::thread([this] { trackingLoop(); });
+  grabber_ = std::thread([this] { grabberLoop(); });
+}
+
+bool LivePipeline::waitUntilOpen(double timeoutSeconds, const std::atomic<bool>& interrupted) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(timeoutSeconds));
+  std::unique_lock lock(mutex_);
+  while (openState_ == OpenState::Pending) {
+    if (interrupted || Clock::now() >= deadline) return false;
+    openChanged_.wait_for(lock, std::chrono::milliseconds(100));
+  }
+  if (openState_ == OpenState::Failed) throw std::runtime_error(error_);
+  return true;
+}
+
+void LivePipeline::requestStop() { stop_ = true; }
+
+void LivePipeline::join() {
+  if (grabber_.joinable()) grabber_.join();
+  if (tracker_.joinable()) tracker_.join();
+}
+
+void LivePipeline::grabberLoop() {
+  try {
+    source_.open();
+  } catch (const std::exception& e) {
+    {
+      std::lock_guard lock(mutex_);
+      openState_ = OpenState::Failed;
+      error_ = e.what();
+    }
+    openChanged_.notify_all();
+    queue_.close();
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    openState_ = OpenState::Open;
+  }
+  openChanged_.notify_all();
+  try {
+    while (!stop_) {
+      auto frame = source_.next(stop_);
+      if (!frame) break;
+      if (received_ == 0) firstFrame_ = Clock::now().time_since_epoch().count();
+      ++received_;
+      if (recorder_) recorder_->add(*frame);
+      queue_.push(std::move(frame));  // drops (and counts) the oldest when tracking lags
+      if (maxFrames_ && received_ >= maxFrames_) break;
+    }
+  } catch (const std::exception& e) {
+    // A device failure mid-run: keep what was tracked so far, report the error at the end.
+    std::lock_guard lock(mutex_);
+    error_ = e.what();
+  }
+  queue_.close();
+}
+
+void LivePipeline::trackingLoop() {
+  while (auto frame = queue_.pop()) {
+    const TrackingResult r = slam_.process(*frame);
+    frame.reset();  // free the images before waiting for the next frame
+    ++processed_;
+    if (r.status == TrackingStatus::Lost)
+      ++lost_;
+    else
+      ++tracked_;
+    if (r.newKeyframe) ++keyframes_;
+    lastStatus_ = static_cast<int>(r.status);
+    lastProcessed_ = Clock::now().time_since_epoch().count();
+  }
+  trackingDone_ = true;
+}
+
+LiveCounters LivePipeline::counters() const {
+  LiveCounters c;
+  c.received = received_;
+  c.processed = processed_;
+  c.dropped = queue_.dropped();
+  c.tracked = tracked_;
+  c.lost = lost_;
+  c.keyframes = keyframes_;
+  c.lastStatus = static_cast<TrackingStatus>(lastStatus_.load());
+  const auto first = firstFrame_.load(), last = lastProcessed_.load();
+  if (first && last > first)
+    c.activeSeconds = std::chrono::duration<double>(Clock::duration(last - first)).count();
+  return c;
+}
+
+std::string LivePipeline::error() const {
+  std::lock_guard lock(mutex_);
+  return openState_ == OpenState::Open ? error_ : std::string();
+}
+
+}  // namespace slamdunk::live

@@ -1,0 +1,76 @@
+#pragma once
+// The live threads: the grabber (opens the source, receives frames, optionally records them,
+// hands them over latest-wins) and the tracker (SlamSystem::process on each frame). The local
+// optimization runs in SlamSystem's own thread, so tracking never waits for it. The caller's
+// thread stays free for status output and signal handling.
+
+#include "FrameSource.h"
+#include "LatestFrameQueue.h"
+#include "RawlogRecorder.h"
+
+#include <slamdunk/slam/SlamSystem.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace slamdunk::live {
+
+/// A consistent-enough picture of the counters (each one is exact; they are read one by one).
+struct LiveCounters {
+  size_t received = 0, processed = 0, dropped = 0, tracked = 0, lost = 0, keyframes = 0;
+  TrackingStatus lastStatus = TrackingStatus::Lost;
+  double activeSeconds = 0;  ///< from the first frame received to the last one processed
+};
+
+class LivePipeline {
+ public:
+  /// recorder may be null; maxFrames = 0: no limit.
+  LivePipeline(FrameSource& source, SlamSystem& slam, size_t queueCapacity,
+               RawlogRecorder* recorder, size_t maxFrames);
+  ~LivePipeline();  ///< stops and joins
+  LivePipeline(const LivePipeline&) = delete;
+  LivePipeline& operator=(const LivePipeline&) = delete;
+
+  void start();
+  /// Waits until the source is open (true), it failed (throws its error), `timeoutSeconds`
+  /// passed or `interrupted` became true (false).
+  bool waitUntilOpen(double timeoutSeconds, const std::atomic<bool>& interrupted);
+  /// The grabber stops; the tracker still processes the frames already handed over.
+  void requestStop();
+  bool finished() const { return trackingDone_; }
+  void join();
+
+  LiveCounters counters() const;
+  /// The source's error that ended the run early (empty if it ended normally).
+  std::string error() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void grabberLoop();
+  void trackingLoop();
+  double secondsSince(Clock::time_point t) const;
+
+  FrameSource& source_;
+  SlamSystem& slam_;
+  RawlogRecorder* recorder_;
+  const size_t maxFrames_;
+  LatestFrameQueue queue_;
+
+  std::atomic<bool> stop_{false}, trackingDone_{false};
+  std::atomic<size_t> received_{0}, processed_{0}, tracked_{0}, lost_{0}, keyframes_{0};
+  std::atomic<int> lastStatus_{static_cast<int>(TrackingStatus::Lost)};
+  std::atomic<Clock::rep> firstFrame_{0}, lastProcessed_{0};  ///< Clock ticks, 0 = not yet
+
+  enum class OpenState { Pending, Open, Failed };
+  mutable std::mutex mutex_;  // guards openState_, error_
+  std::condition_variable openChanged_;
+  OpenState openState_ = OpenState::Pending;
+  std::string error_;
+
+  std::thread grabber_, tracker_;
+};
+
+}  // namespace slamdunk::live

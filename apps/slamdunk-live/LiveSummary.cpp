@@ -1,0 +1,75 @@
+#include "LiveSummary.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace slamdunk::live {
+
+namespace {
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+double fps(size_t frames, double seconds) { return seconds > 0 ? frames / seconds : 0; }
+}  // namespace
+
+void printLiveSummary(const LiveFigures& f, bool json) {
+  const LiveCounters& c = f.counters;
+  std::vector<double> trackingMs;
+  for (const auto& t : f.stats.stageTimings) trackingMs.push_back(t.total);
+  if (json) {
+    std::printf(
+        "{\n  \"frames_received\": %zu, \"frames_processed\": %zu, \"frames_dropped\": "
+        "%zu,\n",
+        c.received, c.processed, c.dropped);
+    std::printf(
+        "  \"tracked\": %zu, \"lost\": %zu, \"keyframes\": %zu, \"optimizations\": %zu, "
+        "\"loop_closures\": %zu,\n",
+        c.tracked, c.lost, f.stats.keyframes, f.stats.optimizations, f.stats.loopClosures);
+    std::printf(
+        "  \"fps_received\": %.2f, \"fps_processed\": %.2f, \"active_s\": %.3f, "
+        "\"wall_s\": %.3f,\n",
+        fps(c.received, c.activeSeconds), fps(c.processed, c.activeSeconds), c.activeSeconds,
+        f.wallSeconds);
+    std::printf(
+        "  \"ms_tracking_median\": %.3f, \"ms_optimization_median\": %.3f, "
+        "\"interrupted\": %s",
+        median(trackingMs), median(f.stats.optimizationMs), f.interrupted ? "true" : "false");
+    if (f.recorded)
+      std::printf(",\n  \"recorded\": %zu, \"record_skipped\": %zu", *f.recorded,
+                  f.recordSkipped.value_or(0));
+    if (f.ate)
+      std::printf(
+          ",\n  \"ate_rmse_m\": %.6f, \"ate_mean_m\": %.6f, \"ate_median_m\": %.6f, "
+          "\"ate_max_m\": %.6f, \"ate_pairs\": %zu",
+          f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+    std::printf("\n}\n");
+    return;
+  }
+  std::printf("slamdunk-live summary%s\n", f.interrupted ? " (interrupted)" : "");
+  std::printf("  frames:        %zu received, %zu processed, %zu dropped (tracker behind)\n",
+              c.received, c.processed, c.dropped);
+  std::printf("  tracking:      %zu tracked, %zu lost\n", c.tracked, c.lost);
+  for (const auto& why : f.stats.lostReasons) std::printf("    lost because: %s\n", why.c_str());
+  std::printf(
+      "  keyframes:     %zu, %zu local optimizations (ms median %.1f), %zu loop "
+      "closures\n",
+      f.stats.keyframes, f.stats.optimizations, median(f.stats.optimizationMs),
+      f.stats.loopClosures);
+  std::printf(
+      "  speed:         %.1f frames/s received, %.1f processed over %.2f s; tracking "
+      "%.1f ms/frame (median)\n",
+      fps(c.received, c.activeSeconds), fps(c.processed, c.activeSeconds), c.activeSeconds,
+      median(trackingMs));
+  if (f.recorded)
+    std::printf("  recorded:      %zu frames (%zu skipped: disk too slow)\n", *f.recorded,
+                f.recordSkipped.value_or(0));
+  if (f.ate)
+    std::printf("  ATE:           rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs)\n",
+                f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+  if (!f.sourceError.empty()) std::printf("  source error:  %s\n", f.sourceError.c_str());
+}
+
+}  // namespace slamdunk::live

@@ -1,0 +1,99 @@
+#include "RawlogRecorder.h"
+
+#include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/core.hpp>
+
+#include <stdexcept>
+
+namespace slamdunk::live {
+
+RawlogRecorder::RawlogRecorder(const std::string& path, size_t maxBacklog)
+    : output_(path), maxBacklog_(maxBacklog) {
+  // Level 1: the fastest gzip level; live frames arrive at 30 Hz on a small machine.
+  if (!file_.open(output_.tempPath(), 1))
+    throw std::runtime_error("cannot create the recording '" + output_.tempPath() + "'");
+  writer_ = std::thread([this] { writerLoop(); });
+}
+
+RawlogRecorder::~RawlogRecorder() { stopWriter(); }
+
+void RawlogRecorder::add(const mrpt::obs::CObservation3DRangeScan& frame) {
+  {
+    std::lock_guard lock(mutex_);
+    if (backlog_.size() >= maxBacklog_) {
+      ++skipped_;
+      return;
+    }
+  }
+  // Deep copies: the tracker reads the original concurrently, and a frame replayed from a
+  // rawlog with external images must be embedded to make the recording self-contained.
+  auto copy = std::make_shared<mrpt::obs::CObservation3DRangeScan>(frame);
+  if (frame.hasIntensityImage)
+    copy->intensityImage =
+        mrpt::img::CImage(frame.intensityImage.asCvMatRef().clone(), mrpt::img::SHALLOW_COPY);
+  copy->rangeImage = frame.rangeImage;
+  copy->rangeImage_forceResetExternalStorage();
+  {
+    std::lock_guard lock(mutex_);
+    backlog_.push_back(std::move(copy));
+  }
+  ready_.notify_one();
+}
+
+void RawlogRecorder::writerLoop() {
+  auto archive = mrpt::serialization::archiveFrom(file_);
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    ready_.wait(lock, [&] { return !backlog_.empty() || stopping_; });
+    if (backlog_.empty()) return;  // stopping and everything written
+    auto frame = std::move(backlog_.front());
+    backlog_.pop_front();
+    lock.unlock();
+    std::string error;
+    try {
+      archive << *frame;
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    lock.lock();
+    if (!error.empty()) {
+      error_ = error;
+      backlog_.clear();
+      return;
+    }
+    ++written_;
+  }
+}
+
+void RawlogRecorder::stopWriter() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  ready_.notify_all();
+  if (writer_.joinable()) writer_.join();
+}
+
+void RawlogRecorder::finish() {
+  stopWriter();
+  file_.close();
+  {
+    std::lock_guard lock(mutex_);
+    if (!error_.empty())
+      throw std::runtime_error("recording '" + output_.targetPath() + "' failed: " + error_);
+  }
+  output_.commit();
+}
+
+size_t RawlogRecorder::written() const {
+  std::lock_guard lock(mutex_);
+  return written_;
+}
+
+size_t RawlogRecorder::skipped() const {
+  std::lock_guard lock(mutex_);
+  return skipped_;
+}
+
+}  // namespace slamdunk::live

@@ -1,0 +1,26 @@
+#include "StatusPrinter.h"
+
+#include <cstdio>
+
+namespace slamdunk::live {
+
+StatusPrinter::StatusPrinter(double period)
+    : period_(period), start_(Clock::now()), last_(start_) {}
+
+void StatusPrinter::tick(const LiveCounters& now) {
+  if (period_ <= 0) return;
+  const auto t = Clock::now();
+  const double dt = std::chrono::duration<double>(t - last_).count();
+  if (dt < period_) return;
+  std::fprintf(stderr,
+               "[slamdunk-live] %6.1f s | in %5.1f fps | tracking %5.1f fps | %-11s | "
+               "keyframes %zu | dropped %zu | lost %zu\n",
+               std::chrono::duration<double>(t - start_).count(),
+               (now.received - previous_.received) / dt, (now.processed - previous_.processed) / dt,
+               now.processed ? toString(now.lastStatus) : "waiting", now.keyframes, now.dropped,
+               now.lost);
+  previous_ = now;
+  last_ = t;
+}
+
+}  // namespace slamdunk::live

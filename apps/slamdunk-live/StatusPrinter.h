@@ -1,0 +1,23 @@
+#pragma once
+// One status line on stderr about every `period` seconds while the pipeline runs: frame rates
+// over the last period, tracking state, keyframes, dropped and lost frames.
+
+#include "LivePipeline.h"
+
+namespace slamdunk::live {
+
+class StatusPrinter {
+ public:
+  /// period <= 0 disables the output.
+  explicit StatusPrinter(double period);
+  /// Call often (e.g. every 100 ms); prints when a period has passed.
+  void tick(const LiveCounters& now);
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double period_;
+  Clock::time_point start_, last_;
+  LiveCounters previous_;
+};
+
+}  // namespace slamdunk::live

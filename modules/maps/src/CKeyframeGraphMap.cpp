@@ -1,0 +1,614 @@
+#include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/IniOptions.h>
+#include <slamdunk/core/Pose.h>
+#include <slamdunk/maps/CKeyframeGraphMap.h>
+
+#include <mrpt/core/initializer.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+// Serialization layout, version 0 (all numbers through CArchive, i.e. little-endian):
+//   u32 keyframeCount, then per keyframe (increasing id):
+//     u32 id, f64 timestamp
+//     intrinsics: i32 width, i32 height, f64 fx fy cx cy, f64 dist[5]
+//     pose T_world_keyframe (optical frame): f64 x 12 (rotation row-major, then translation)
+//     u32 n; per keypoint: f32 x y size angle response, i32 octave class_id
+//     descriptors: matrix block (raw)
+//     points: n x f64[3]
+//     colour: u8 present; if present a matrix block (PNG when 8/16-bit with 1, 3 or 4 channels)
+//     depth:  u8 present; if present a matrix block: CV_32F metres, bit-exact either as scaled
+//             16-bit PNG (when every pixel is float(k) * units, checked at save time) or raw
+//     depthSmall: matrix block (raw, may be 0x0), i32 depthSmallStride
+//   u32 edgeCount, then per edge (increasing (i, j), i < j):
+//     u32 i, u32 j, u32 m; per match: f64 pointI[3] pointJ[3] weight information[9] (row-major)
+// Matrix block: i32 rows, i32 cols, i32 cv type, u8 encoding (0 raw, 1 PNG, 2 scaled 16-bit
+// PNG followed by f32 units), u64 byte count, bytes. Raw bytes are the matrix' own (little-endian
+// on every platform this builds on).
+
+namespace slamdunk {
+
+IMPLEMENTS_SERIALIZABLE(CKeyframeGraphMap, mrpt::maps::CMetricMap, slamdunk)
+
+// "keyframeGraphMap" is the short name for CMultiMetricMap INI files ("keyframeGraphMap_count").
+MAP_DEFINITION_REGISTER("slamdunk::CKeyframeGraphMap,keyframeGraphMap", slamdunk::CKeyframeGraphMap)
+
+// Runs when the library is loaded (also through mrpt::system::loadPluginModule): lets
+// CArchive::ReadObject() create this class by name.
+MRPT_INITIALIZER(slamdunk_register_CKeyframeGraphMap) {
+  mrpt::rtti::registerClass(CLASS_ID(slamdunk::CKeyframeGraphMap));
+}
+
+void registerKeyframeGraphMap() {
+  mrpt::rtti::registerClass(CLASS_ID(slamdunk::CKeyframeGraphMap));
+}
+
+namespace {
+
+// serializeFrom() records a too-new version here so loadFromFile() can report it precisely even
+// if MRPT wraps the exception on its way out of ReadObject().
+thread_local int tooNewVersionSeen = -1;
+
+enum class MatEncoding : uint8_t { Raw = 0, Png = 1, ScaledU16Png = 2 };
+
+// Depth from 16-bit sensors is float(k) * units (RgbdFrame's own arithmetic): such images are
+// stored as k in a 16-bit PNG, 3-4x smaller than raw floats, but only after checking that
+// decoding gives back every pixel bit for bit; anything else is stored raw.
+constexpr float kDepthUnitCandidates[] = {1e-3f, 1.0f / 5000.0f, 1e-4f, 2e-4f, 5e-4f};
+
+// Limits that reject corrupt sizes before allocating: far above any real RGB-D frame.
+constexpr int kMaxImageSide = 1 << 15;
+constexpr uint64_t kMaxBlobBytes = uint64_t(1) << 31;
+constexpr uint32_t kMaxCount = 100'000'000;
+
+[[noreturn]] void corrupt(const std::string& what) {
+  throw std::runtime_error("corrupt keyframe map data: " + what);
+}
+
+void readExact(mrpt::serialization::CArchive& in, void* data, size_t n) {
+  if (n == 0) return;
+  if (in.ReadBuffer(data, n) != n) corrupt("unexpected end of data");
+}
+
+uint32_t readCount(mrpt::serialization::CArchive& in, const char* what) {
+  const auto n = in.ReadAs<uint32_t>();
+  if (n > kMaxCount) corrupt(std::string("implausible ") + what + " count " + std::to_string(n));
+  return n;
+}
+
+template <typename Vec>
+void writeVec(mrpt::serialization::CArchive& out, const Vec& v) {
+  for (int k = 0; k < v.size(); ++k) out << double(v[k]);
+}
+
+Eigen::Vector3d readVec3(mrpt::serialization::CArchive& in) {
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) in >> v[k];
+  return v;
+}
+
+bool pngEncodable(const cv::Mat& m) {
+  const int depth = m.depth(), ch = m.channels();
+  return (depth == CV_8U || depth == CV_16U) && (ch == 1 || ch == 3 || ch == 4);
+}
+
+/// k per pixel if every pixel of a CV_32F image is exactly float(k) * units, k in [0, 65535].
+std::optional<cv::Mat> exactU16(const cv::Mat& depth, float units) {
+  cv::Mat k(depth.rows, depth.cols, CV_16U);
+  for (int r = 0; r < depth.rows; ++r) {
+    const float* d = depth.ptr<float>(r);
+    uint16_t* o = k.ptr<uint16_t>(r);
+    for (int c = 0; c < depth.cols; ++c) {
+      const double q = std::round(double(d[c]) / double(units));
+      if (!(q >= 0 && q <= 65535)) return std::nullopt;  // also rejects NaN
+      o[c] = uint16_t(q);
+      const float back = float(o[c]) * units;
+      if (std::memcmp(&back, &d[c], sizeof back) != 0) return std::nullopt;
+    }
+  }
+  return k;
+}
+
+void writeMat(mrpt::serialization::CArchive& out, const cv::Mat& m, bool preferPng) {
+  const cv::Mat c = m.isContinuous() ? m : m.clone();
+  out << int32_t(c.rows) << int32_t(c.cols) << int32_t(c.type());
+  if (preferPng && !c.empty() && pngEncodable(c)) {
+    std::vector<uchar> png;
+    // Lossless whatever the compression level; 1 keeps saving fast.
+    if (!cv::imencode(".png", c, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+      throw std::runtime_error("could not PNG-encode a keyframe image");
+    out << uint8_t(MatEncoding::Png) << uint64_t(png.size());
+    out.WriteBuffer(png.data(), png.size());
+    return;
+  }
+  const uint64_t bytes = uint64_t(c.total()) * c.elemSize();
+  out << uint8_t(MatEncoding::Raw) << bytes;
+  if (bytes) out.WriteBuffer(c.data, bytes);
+}
+
+/// Depth (CV_32F metres): as scaled 16-bit PNG when provably exact, else raw.
+void writeDepth(mrpt::serialization::CArchive& out, const cv::Mat& depth) {
+  if (depth.type() == CV_32F && !depth.empty()) {
+    for (float units : kDepthUnitCandidates) {
+      const std::optional<cv::Mat> k = exactU16(depth, units);
+      if (!k) continue;
+      std::vector<uchar> png;
+      if (!cv::imencode(".png", *k, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) break;
+      out << int32_t(depth.rows) << int32_t(depth.cols) << int32_t(CV_32F)
+          << uint8_t(MatEncoding::ScaledU16Png) << units << uint64_t(png.size());
+      out.WriteBuffer(png.data(), png.size());
+      return;
+    }
+  }
+  writeMat(out, depth, false);
+}
+
+cv::Mat readMat(mrpt::serialization::CArchive& in, const char* what) {
+  const auto rows = in.ReadAs<int32_t>();
+  const auto cols = in.ReadAs<int32_t>();
+  const auto type = in.ReadAs<int32_t>();
+  const auto encoding = in.ReadAs<uint8_t>();
+  const float units = encoding == uint8_t(MatEncoding::ScaledU16Png) ? in.ReadAs<float>() : 0.0f;
+  const auto bytes = in.ReadAs<uint64_t>();
+  const int depth = CV_MAT_DEPTH(type), channels = CV_MAT_CN(type);
+  if (rows < 0 || cols < 0 || uint32_t(rows) > kMaxCount || cols > kMaxImageSide || type < 0 ||
+      type >= (CV_CN_MAX << CV_CN_SHIFT) || channels < 1 || depth > CV_16F || bytes > kMaxBlobBytes)
+    corrupt(std::string("bad ") + what + " header");
+  if (encoding == uint8_t(MatEncoding::Raw)) {
+    cv::Mat m(rows, cols, type);
+    if (bytes != uint64_t(m.total()) * m.elemSize())
+      corrupt(std::string(what) + " size disagrees with its byte count");
+    readExact(in, m.data, bytes);
+    return m;
+  }
+  if (encoding != uint8_t(MatEncoding::Png) && encoding != uint8_t(MatEncoding::ScaledU16Png))
+    corrupt(std::string("unknown ") + what + " encoding");
+  std::vector<uchar> png(bytes);
+  readExact(in, png.data(), png.size());
+  cv::Mat m = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+  if (encoding == uint8_t(MatEncoding::ScaledU16Png)) {
+    if (type != CV_32F || m.type() != CV_16U || !(units > 0))
+      corrupt(std::string(what) + " scaled 16-bit PNG is inconsistent");
+    cv::Mat depthOut(m.rows, m.cols, CV_32F);
+    for (int r = 0; r < m.rows; ++r) {
+      const uint16_t* k = m.ptr<uint16_t>(r);
+      float* d = depthOut.ptr<float>(r);
+      for (int c = 0; c < m.cols; ++c) d[c] = float(k[c]) * units;  // as checked when saved
+    }
+    m = depthOut;
+  }
+  if (m.rows != rows || m.cols != cols || m.type() != type)
+    corrupt(std::string(what) + " PNG does not decode to the recorded size and type");
+  return m;
+}
+
+void writeKeyframe(mrpt::serialization::CArchive& out, const Keyframe& kf, const Pose& pose) {
+  out << uint32_t(kf.id) << kf.timestamp;
+  const CameraIntrinsics& K = kf.intrinsics;
+  out << int32_t(K.width) << int32_t(K.height) << K.fx << K.fy << K.cx << K.cy;
+  for (double d : K.dist) out << d;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out << pose.linear()(r, c);
+  writeVec(out, pose.translation());
+
+  const FeatureSet& f = kf.features;
+  out << uint32_t(f.keypoints.size());
+  for (const cv::KeyPoint& k : f.keypoints)
+    out << k.pt.x << k.pt.y << k.size << k.angle << k.response << int32_t(k.octave)
+        << int32_t(k.class_id);
+  writeMat(out, f.descriptors, false);
+  out << uint32_t(f.points.size());
+  for (const Eigen::Vector3d& p : f.points) writeVec(out, p);
+
+  out << uint8_t(!kf.colour.empty());
+  if (!kf.colour.empty()) writeMat(out, kf.colour, true);
+  out << uint8_t(!kf.depth.empty());
+  if (!kf.depth.empty()) writeDepth(out, kf.depth);
+  writeMat(out, kf.depthSmall, false);
+  out << int32_t(kf.depthSmallStride);
+}
+
+std::pair<std::shared_ptr<Keyframe>, Pose> readKeyframe(mrpt::serialization::CArchive& in) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = in.ReadAs<uint32_t>();
+  in >> kf->timestamp;
+  CameraIntrinsics& K = kf->intrinsics;
+  K.width = in.ReadAs<int32_t>();
+  K.height = in.ReadAs<int32_t>();
+  in >> K.fx >> K.fy >> K.cx >> K.cy;
+  for (double& d : K.dist) in >> d;
+  Pose pose = Pose::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) in >> pose.linear()(r, c);
+  pose.translation() = readVec3(in);
+
+  FeatureSet& f = kf->features;
+  const uint32_t n = readCount(in, "keypoint");
+  for (uint32_t k = 0; k < n; ++k) {  // no reserve(n): a corrupt n hits the end of data first
+    cv::KeyPoint kp;
+    in >> kp.pt.x >> kp.pt.y >> kp.size >> kp.angle >> kp.response;
+    kp.octave = in.ReadAs<int32_t>();
+    kp.class_id = in.ReadAs<int32_t>();
+    f.keypoints.push_back(kp);
+  }
+  f.descriptors = readMat(in, "descriptor matrix");
+  if (!f.descriptors.empty() && uint32_t(f.descriptors.rows) != n)
+    corrupt("keyframe " + std::to_string(kf->id) + " has " + std::to_string(n) + " keypoints but " +
+            std::to_string(f.descriptors.rows) + " descriptors");
+  const uint32_t np = readCount(in, "point");
+  if (np != n) corrupt("keyframe " + std::to_string(kf->id) + ": point and keypoint counts differ");
+  for (uint32_t k = 0; k < np; ++k) f.points.push_back(readVec3(in));
+
+  if (in.ReadAs<uint8_t>()) kf->colour = readMat(in, "colour image");
+  if (in.ReadAs<uint8_t>()) kf->depth = readMat(in, "depth image");
+  kf->depthSmall = readMat(in, "subsampled depth image");
+  kf->depthSmallStride = in.ReadAs<int32_t>();
+  return {kf, pose};
+}
+
+/// Colour of keyframe k of n along a blue -> green -> red ramp (creation order).
+mrpt::img::TColor rampColour(size_t k, size_t n) {
+  const double t = n > 1 ? double(k) / double(n - 1) : 0.0;
+  const auto u8 = [](double v) { return uint8_t(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5); };
+  return {u8(2.0 * t - 1.0), u8(1.0 - std::abs(2.0 * t - 1.0)), u8(1.0 - 2.0 * t)};
+}
+
+/// Calls fn(pointInWorldOptical, r, g, b) for every point the map draws: keyframe depth
+/// back-projected (every decimation-th pixel, colour from the keyframe image), or the features'
+/// 3D points (coloured per keyframe) when a keyframe has no images.
+template <typename Fn>
+void forEachMapPoint(const KeyframeGraph& graph, const CKeyframeGraphMap::TRenderOptions& opt,
+                     Fn&& fn) {
+  const auto poses = graph.poses();
+  const int step = std::max(1, opt.cloudDecimation);
+  size_t k = 0;
+  for (const auto& [id, pose] : poses) {
+    const KeyframePtr kf = graph.keyframe(id);
+    const mrpt::img::TColor ramp = rampColour(k++, poses.size());
+    const cv::Mat& depth = kf->depth;
+    if (depth.empty() || depth.type() != CV_32F) {
+      for (const Eigen::Vector3d& p : kf->features.points)
+        fn(Eigen::Vector3d(pose * p), ramp.R, ramp.G, ramp.B);
+      continue;
+    }
+    const cv::Mat& colour = kf->colour;
+    const bool sameSize = colour.rows == depth.rows && colour.cols == depth.cols;
+    const bool bgr = sameSize && colour.type() == CV_8UC3;
+    const bool grey = sameSize && colour.type() == CV_8UC1;
+    const CameraIntrinsics& K = kf->intrinsics;
+    const bool distorted = K.hasDistortion();
+    for (int v = 0; v < depth.rows; v += step) {
+      const float* drow = depth.ptr<float>(v);
+      for (int u = 0; u < depth.cols; u += step) {
+        const float z = drow[u];
+        if (!(z > 0.0f) || z > opt.maxDepth) continue;
+        const Eigen::Vector2d px =
+            distorted ? K.undistortPixel(u, v) : Eigen::Vector2d(double(u), double(v));
+        const Eigen::Vector3d p = pose * K.backProject(px.x(), px.y(), z);
+        if (bgr) {
+          const cv::Vec3b c = colour.at<cv::Vec3b>(v, u);
+          fn(p, c[2], c[1], c[0]);
+        } else if (grey) {
+          const uint8_t g = colour.at<uint8_t>(v, u);
+          fn(p, g, g, g);
+        } else {
+          fn(p, ramp.R, ramp.G, ramp.B);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ options
+
+void CKeyframeGraphMap::TRenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                                           const std::string& section) {
+  IniSectionReader r(cfg, section);
+  cloudDecimation = r.readInt("cloud_decimation", cloudDecimation);
+  maxDepth = float(r.readDouble("max_depth", maxDepth));
+  pointSize = float(r.readDouble("point_size", pointSize));
+  showPoints = r.readBool("show_points", showPoints);
+  showFrustums = r.readBool("show_frustums", showFrustums);
+  showEdges = r.readBool("show_edges", showEdges);
+  frustumSize = float(r.readDouble("frustum_size", frustumSize));
+  r.rejectUnknownKeys();
+  if (cloudDecimation < 1)
+    throw std::invalid_argument("[" + section + "] cloud_decimation must be >= 1");
+  if (!(maxDepth > 0) || !(pointSize > 0) || !(frustumSize > 0))
+    throw std::invalid_argument("[" + section +
+                                "] max_depth, point_size and frustum_size must be > 0");
+}
+
+void CKeyframeGraphMap::TRenderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                                         const std::string& s) const {
+  cfg.write(s, "cloud_decimation", cloudDecimation);
+  cfg.write(s, "max_depth", maxDepth);
+  cfg.write(s, "point_size", pointSize);
+  cfg.write(s, "show_points", showPoints);
+  cfg.write(s, "show_frustums", showFrustums);
+  cfg.write(s, "show_edges", showEdges);
+  cfg.write(s, "frustum_size", frustumSize);
+}
+
+CKeyframeGraphMap::TMapDefinition::TMapDefinition() = default;
+
+void CKeyframeGraphMap::TMapDefinition::loadFromConfigFile_map_specific(
+    const mrpt::config::CConfigFileBase& source, const std::string& sectionNamePrefix) {
+  renderOptions.loadFromConfigFile(source, sectionNamePrefix + "_renderOpts");
+}
+
+void CKeyframeGraphMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const {
+  renderOptions.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CKeyframeGraphMap::internal_CreateFromMapDefinition(
+    const mrpt::maps::TMetricMapInitializer& def) {
+  const auto& d = dynamic_cast<const CKeyframeGraphMap::TMapDefinition&>(def);
+  auto* map = new CKeyframeGraphMap();
+  map->renderOptions = d.renderOptions;
+  return map;
+}
+
+// ------------------------------------------------------------------ construction
+
+CKeyframeGraphMap::CKeyframeGraphMap() : graph_(std::make_shared<KeyframeGraph>()) {}
+
+CKeyframeGraphMap::CKeyframeGraphMap(std::shared_ptr<KeyframeGraph> graph)
+    : graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()) {}
+
+const std::shared_ptr<KeyframeGraph>& CKeyframeGraphMap::graph() const { return graph_; }
+
+void CKeyframeGraphMap::setGraph(std::shared_ptr<KeyframeGraph> graph) {
+  graph_ = graph ? std::move(graph) : std::make_shared<KeyframeGraph>();
+}
+
+// ------------------------------------------------------------------ serialization
+
+uint8_t CKeyframeGraphMap::serializeGetVersion() const { return kSerializationVersion; }
+
+void CKeyframeGraphMap::serializeTo(mrpt::serialization::CArchive& out) const {
+  // Poses first, then only those keyframes and the edges between them: a snapshot that stays
+  // consistent even if the SLAM system adds keyframes meanwhile.
+  const auto poses = graph_->poses();
+  out << uint32_t(poses.size());
+  for (const auto& [id, pose] : poses) writeKeyframe(out, *graph_->keyframe(id), pose);
+  std::vector<KeyframeEdge> edges = graph_->allEdges();
+  edges.erase(
+      std::remove_if(edges.begin(), edges.end(),
+                     [&](const KeyframeEdge& e) { return !poses.count(e.i) || !poses.count(e.j); }),
+      edges.end());
+  out << uint32_t(edges.size());
+  for (const KeyframeEdge& e : edges) {
+    out << uint32_t(e.i) << uint32_t(e.j) << uint32_t(e.matches.size());
+    for (const PointMatch& m : e.matches) {
+      writeVec(out, m.pointI);
+      writeVec(out, m.pointJ);
+      out << m.weight;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) out << m.information(r, c);
+    }
+  }
+}
+
+void CKeyframeGraphMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
+  if (version > kSerializationVersion) {
+    tooNewVersionSeen = version;
+    MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+  // Build a new graph and swap it in only when complete: a failed read leaves the map as it was
+  // and never touches a graph shared with a running SLAM system.
+  auto graph = std::make_shared<KeyframeGraph>();
+  const uint32_t n = readCount(in, "keyframe");
+  for (uint32_t k = 0; k < n; ++k) {
+    auto [kf, pose] = readKeyframe(in);
+    if (graph->contains(kf->id)) corrupt("keyframe id " + std::to_string(kf->id) + " repeated");
+    graph->addKeyframe(std::move(kf), pose);
+  }
+  const uint32_t ne = readCount(in, "edge");
+  for (uint32_t k = 0; k < ne; ++k) {
+    const auto i = in.ReadAs<uint32_t>();
+    const auto j = in.ReadAs<uint32_t>();
+    const uint32_t m = readCount(in, "match");
+    if (i >= j || !graph->contains(i) || !graph->contains(j))
+      corrupt("edge " + std::to_string(i) + "-" + std::to_string(j) +
+              " does not join two known keyframes in increasing order");
+    std::vector<PointMatch> matches;
+    for (uint32_t q = 0; q < m; ++q) {
+      PointMatch pm;
+      pm.pointI = readVec3(in);
+      pm.pointJ = readVec3(in);
+      in >> pm.weight;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) in >> pm.information(r, c);
+      matches.push_back(pm);
+    }
+    graph->addMatches(i, j, matches);  // i < j: stored unchanged
+  }
+  graph_ = std::move(graph);
+  pointsCache_.reset();
+}
+
+void CKeyframeGraphMap::saveToFile(const std::string& path) const {
+  AtomicOutput atomic(path);
+  {
+    mrpt::io::CFileGZOutputStream f;
+    if (!f.open(atomic.tempPath()))
+      throw std::runtime_error("cannot write map file '" + path + "'");
+    auto out = mrpt::serialization::archiveFrom(f);
+    out << *this;
+    f.close();
+  }
+  atomic.commit();
+}
+
+std::shared_ptr<CKeyframeGraphMap> CKeyframeGraphMap::loadFromFile(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error("map file '" + path + "' does not exist or is not a file");
+  mrpt::io::CFileGZInputStream f;
+  if (!f.open(path)) throw std::runtime_error("cannot open map file '" + path + "'");
+  tooNewVersionSeen = -1;
+  mrpt::serialization::CSerializable::Ptr obj;
+  try {
+    auto in = mrpt::serialization::archiveFrom(f);
+    obj = in.ReadObject();
+  } catch (const std::exception& e) {
+    if (tooNewVersionSeen >= 0)
+      throw std::runtime_error("map file '" + path +
+                               "' was written by a newer version (class version " +
+                               std::to_string(tooNewVersionSeen) + "; this build reads up to " +
+                               std::to_string(kSerializationVersion) + ")");
+    // MRPT's messages carry a multi-line stack trace: keep the first line.
+    std::string why = e.what();
+    why = why.substr(0, why.find('\n'));
+    throw std::runtime_error("map file '" + path + "' is corrupt or truncated (" + why + ")");
+  }
+  auto map = std::dynamic_pointer_cast<CKeyframeGraphMap>(obj);
+  if (!map)
+    throw std::runtime_error("map file '" + path + "' holds a " +
+                             std::string(obj ? obj->GetRuntimeClass()->className : "null object") +
+                             ", not a slamdunk::CKeyframeGraphMap");
+  return map;
+}
+
+// ------------------------------------------------------------------ CMetricMap
+
+void CKeyframeGraphMap::internal_clear() {
+  // A fresh graph rather than emptying the shared one: clearing the map must not pull the
+  // ground from under a SLAM system that still uses its graph.
+  graph_ = std::make_shared<KeyframeGraph>();
+  pointsCache_.reset();
+}
+
+bool CKeyframeGraphMap::isEmpty() const { return graph_->keyframeCount() == 0; }
+
+bool CKeyframeGraphMap::internal_insertObservation(
+    const mrpt::obs::CObservation&, const std::optional<const mrpt::poses::CPose3D>&) {
+  return false;
+}
+
+double CKeyframeGraphMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation&,
+                                                                const mrpt::poses::CPose3D&) const {
+  return 0;
+}
+
+bool CKeyframeGraphMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation&) const {
+  return false;
+}
+
+std::string CKeyframeGraphMap::asString() const {
+  const auto ids = graph_->ids();
+  size_t withImages = 0, features = 0, matches = 0;
+  for (KeyframeId id : ids) {
+    const KeyframePtr kf = graph_->keyframe(id);
+    withImages += !kf->depth.empty();
+    features += kf->features.size();
+  }
+  const auto edges = graph_->allEdges();
+  for (const KeyframeEdge& e : edges) matches += e.matches.size();
+  std::ostringstream s;
+  s << "slamdunk::CKeyframeGraphMap: " << ids.size() << " keyframes (" << withImages
+    << " with images, " << features << " features), " << edges.size() << " edges, " << matches
+    << " matches";
+  return s.str();
+}
+
+void CKeyframeGraphMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const {
+  // Everything below is in the graph's world (first camera's optical frame); the wrapper turns
+  // it into that camera's MRPT sensor frame so viewers show the map z-up.
+  auto root = mrpt::opengl::CSetOfObjects::Create();
+  root->setName("slamdunk_keyframe_graph_map");
+  root->setPose(toCPose3D(opticalInSensor()));
+
+  const auto poses = graph_->poses();
+  if (renderOptions.showFrustums) {
+    auto frustums = mrpt::opengl::CSetOfObjects::Create();
+    frustums->setName("keyframes");
+    size_t k = 0;
+    for (const auto& [id, pose] : poses) {
+      const CameraIntrinsics& K = graph_->keyframe(id)->intrinsics;
+      const double hfov = 2.0 * std::atan2(0.5 * K.width, K.fx) * 180.0 / M_PI;
+      const double vfov = 2.0 * std::atan2(0.5 * K.height, K.fy) * 180.0 / M_PI;
+      auto f = mrpt::opengl::CFrustum::Create(0.01f * renderOptions.frustumSize,
+                                              renderOptions.frustumSize, float(hfov), float(vfov),
+                                              1.5f, true, false);
+      // CFrustum looks along +X: place it at the keyframe's MRPT sensor frame.
+      f->setPose(toCPose3D(opticalToSensorPose(pose)));
+      f->setColor_u8(rampColour(k++, poses.size()));
+      f->setName("keyframe_" + std::to_string(id));
+      frustums->insert(f);
+    }
+    root->insert(frustums);
+  }
+  if (renderOptions.showEdges) {
+    auto lines = mrpt::opengl::CSetOfLines::Create();
+    lines->setName("edges");
+    lines->setColor_u8(mrpt::img::TColor(255, 160, 0));
+    lines->setLineWidth(1.0f);
+    for (const KeyframeEdge& e : graph_->allEdges()) {
+      const auto a = poses.find(e.i), b = poses.find(e.j);
+      if (a == poses.end() || b == poses.end()) continue;
+      const Eigen::Vector3d pa = a->second.translation(), pb = b->second.translation();
+      lines->appendLine(pa.x(), pa.y(), pa.z(), pb.x(), pb.y(), pb.z());
+    }
+    root->insert(lines);
+  }
+  if (renderOptions.showPoints) {
+    auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+    cloud->setName("points");
+    cloud->setPointSize(renderOptions.pointSize);
+    forEachMapPoint(*graph_, renderOptions,
+                    [&](const Eigen::Vector3d& p, uint8_t r, uint8_t g, uint8_t b) {
+                      cloud->push_back(float(p.x()), float(p.y()), float(p.z()), r / 255.f,
+                                       g / 255.f, b / 255.f);
+                    });
+    root->insert(cloud);
+  }
+  o.insert(root);
+}
+
+void CKeyframeGraphMap::saveMetricMapRepresentationToFile(const std::string& prefix) const {
+  mrpt::opengl::COpenGLScene scene;
+  scene.insert(getVisualization());
+  const std::string path = prefix + ".3Dscene";
+  AtomicOutput atomic(path);
+  {
+    mrpt::io::CFileGZOutputStream f;
+    if (!f.open(atomic.tempPath())) throw std::runtime_error("cannot write '" + path + "'");
+    mrpt::serialization::archiveFrom(f) << scene;
+    f.close();
+  }
+  atomic.commit();
+}
+
+const mrpt::maps::CSimplePointsMap* CKeyframeGraphMap::getAsSimplePointsMap() const {
+  auto pts = std::make_shared<mrpt::maps::CSimplePointsMap>();
+  const Pose& S = opticalInSensor();
+  forEachMapPoint(*graph_, renderOptions, [&](const Eigen::Vector3d& p, uint8_t, uint8_t, uint8_t) {
+    const Eigen::Vector3d q = S * p;
+    pts->insertPoint(float(q.x()), float(q.y()), float(q.z()));
+  });
+  pointsCache_ = std::move(pts);
+  return pointsCache_.get();
+}
+
+}  // namespace slamdunk

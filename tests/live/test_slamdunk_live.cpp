@@ -1,0 +1,296 @@
+// slamdunk-live end to end, with the replay source standing in for a camera: real-time replay
+// (dropped frames, accuracy against the offline app on the same data), Ctrl-C midway, OpenNI2
+// with no camera attached, the generic-sensor path (CCameraSensor), recording, bad input.
+
+#include <slamdunk/core/TumTrajectory.h>
+#ifdef SLAMDUNK_LIVE_TEST_MAPS
+#include <slamdunk/maps/CKeyframeGraphMap.h>
+#endif
+
+#include "TestData.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+namespace fs = std::filesystem;
+using namespace slamdunk;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+std::string testRawlog(const std::string& name) {
+  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
+  return fs::exists(p) ? p.string() : std::string();
+}
+
+std::string groundTruthOf(const std::string& rawlog) {
+  const fs::path p(rawlog);
+  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
+}
+
+#define REQUIRE_RAWLOG(var, name)                                                           \
+  const std::string var = testRawlog(name);                                                 \
+  if (var.empty())                                                                          \
+  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
+               << test::dataDir() << ")"
+
+/// A number from a --json summary; NaN when absent.
+double jsonValue(const std::string& out, const std::string& key) {
+  const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
+  std::smatch m;
+  return std::regex_search(out, m, re) ? std::stod(m[1]) : std::nan("");
+}
+
+std::string writeFile(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// A live INI replaying `rawlog` (or no rawlog: given with --rawlog), extra lines appended to
+/// the [slamdunk-live] section.
+std::string replayIni(const std::string& dir, const std::string& rawlog,
+                      const std::string& liveExtra = "", const std::string& replayExtra = "") {
+  return writeFile(dir + "/live.ini", "[slamdunk-live]\nsource = REPLAY\n" + liveExtra +
+                                          "\n[REPLAY]\ndriver = replay\nrawlog = " + rawlog + "\n" +
+                                          replayExtra + "\n");
+}
+
+struct LiveRun {
+  test::CommandResult result;
+  std::string trajectory, map;
+  double seconds = 0;
+  double value(const std::string& key) const { return jsonValue(result.output, key); }
+};
+
+LiveRun runLive(const std::string& ini, const std::string& outDir, const std::string& extra = "") {
+  LiveRun r;
+  r.trajectory = outDir + "/trajectory.txt";
+  r.map = outDir + "/run.map";
+  const auto t0 = std::chrono::steady_clock::now();
+  r.result = test::runCommand(test::toolPath("slamdunk-live") + " --config " + q(ini) +
+                              " --trajectory " + q(r.trajectory) + " --json -q " + extra);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ real-time replay
+
+TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  const std::string dir = test::scratchDir("Live_7Scenes_1x");
+  const std::string gt = groundTruthOf(rawlog);
+
+  const auto offline =
+      test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
+                       q(dir + "/offline.txt") + " --json -q --gt " + q(gt));
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  const double offlineAte = jsonValue(offline.output, "ate_rmse_m");
+
+  const LiveRun live = runLive(replayIni(dir, rawlog), dir, "--gt " + q(gt));
+  ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
+  const double liveAte = live.value("ate_rmse_m");
+  std::printf(
+      "7scenes at 1x: received %g, dropped %g, processed %g at %.1f frames/s, ATE %.4f m "
+      "(offline %.4f m), optimizations %g\n",
+      live.value("frames_received"), live.value("frames_dropped"), live.value("frames_processed"),
+      live.value("fps_processed"), liveAte, offlineAte, live.value("optimizations"));
+  EXPECT_EQ(live.value("frames_received"), 1000) << live.result.output;
+  EXPECT_EQ(live.value("frames_dropped"), 0) << live.result.output;
+  EXPECT_EQ(live.value("frames_processed"), 1000) << live.result.output;
+  // Paced by the timestamps: 1000 frames at 30 Hz take 33.3 s, not the offline app's ~15 s.
+  EXPECT_NEAR(live.value("active_s"), 33.3, 1.5) << live.result.output;
+  EXPECT_LE(std::abs(liveAte - offlineAte), 0.10 * offlineAte)
+      << "live " << liveAte << " m vs offline " << offlineAte << " m\n"
+      << live.result.output << offline.output;
+  EXPECT_EQ(readTumTrajectory(live.trajectory).size(), live.value("tracked"));
+}
+
+TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  const std::string dir = test::scratchDir("Live_7Scenes_2x");
+  const LiveRun live =
+      runLive(replayIni(dir, rawlog), dir, "--speed 2 --gt " + q(groundTruthOf(rawlog)));
+  ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
+  std::printf(
+      "7scenes at 2x: received %g, dropped %g, processed %g at %.1f frames/s, lost %g, "
+      "ATE %.4f m\n",
+      live.value("frames_received"), live.value("frames_dropped"), live.value("frames_processed"),
+      live.value("fps_processed"), live.value("lost"), live.value("ate_rmse_m"));
+  EXPECT_EQ(live.value("frames_received"), 1000) << live.result.output;
+  EXPECT_EQ(live.value("frames_processed") + live.value("frames_dropped"), 1000)
+      << live.result.output;
+  const Trajectory traj = readTumTrajectory(live.trajectory);
+  EXPECT_GT(traj.size(), 100u);
+  EXPECT_EQ(traj.size(), live.value("tracked"));
+}
+
+// ------------------------------------------------------------------ interrupt
+
+namespace {
+/// Starts the app on a 1x replay, sends `signal` after `seconds`, returns the app's exit code.
+LiveRun interruptedRun(const std::string& rawlog, const std::string& dir, const std::string& signal,
+                       int seconds) {
+  LiveRun r;
+  r.trajectory = dir + "/trajectory.txt";
+  r.map = dir + "/run.map";
+  const std::string app = test::toolPath("slamdunk-live") + " --config " +
+                          q(replayIni(dir, rawlog)) + " --trajectory " + q(r.trajectory) +
+                          " --map " + q(r.map) + " --json -q";
+  const auto t0 = std::chrono::steady_clock::now();
+  // A script, not bash -c '...': the command line itself holds quoted paths.
+  const std::string script =
+      writeFile(dir + "/interrupt.sh", app + " &\npid=$!\nsleep " + std::to_string(seconds) +
+                                           "\nkill -" + signal +
+                                           " $pid\nwait $pid\necho "
+                                           "exit_code=$?\n");
+  r.result = test::runCommand("bash " + q(script));
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::smatch m;
+  if (std::regex_search(r.result.output, m, std::regex("exit_code=([0-9]+)")))
+    r.result.exitCode = std::stoi(m[1]);
+  return r;
+}
+
+void expectCompleteOutputs(const LiveRun& r) {
+  // Documented: an interrupt is the normal end of a live session, exit code 0.
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_NE(r.result.output.find("\"interrupted\": true"), std::string::npos) << r.result.output;
+  const Trajectory traj = readTumTrajectory(r.trajectory);
+  // ~5 s at 30 Hz minus start-up: well over 50 frames, well under the 1000 of the recording.
+  EXPECT_GT(traj.size(), 50u) << r.result.output;
+  EXPECT_LT(traj.size(), 300u) << r.result.output;
+  EXPECT_EQ(traj.size(), r.value("tracked"));
+  const fs::path kf = fs::path(r.trajectory).parent_path() / "trajectory_keyframes.txt";
+  EXPECT_EQ(readTumTrajectory(kf.string()).size(), r.value("keyframes"));
+  EXPECT_LT(r.seconds, 30) << "the app took too long to stop";
+#ifdef SLAMDUNK_LIVE_TEST_MAPS
+  const auto map = CKeyframeGraphMap::loadFromFile(r.map);
+  ASSERT_TRUE(map && map->graph());
+  EXPECT_EQ(map->graph()->keyframeCount(), r.value("keyframes"));
+#endif
+}
+}  // namespace
+
+TEST(SlamdunkLive, SigintMidwayWritesEveryOutput) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigint"), "INT", 5));
+}
+
+TEST(SlamdunkLive, SigtermMidwayWritesEveryOutput) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigterm"), "TERM", 5));
+}
+
+// ------------------------------------------------------------------ other sources
+
+TEST(SlamdunkLive, OpenNI2WithoutACameraFailsFastAndClearly) {
+  // This machine has no RGB-D camera: the shipped OpenNI2 INI must fail quickly, say what was
+  // looked for, and not crash (MRPT's driver aborts or throws from its destructor otherwise).
+  const std::string dir = test::scratchDir("Live_NoCamera");
+  const LiveRun r = runLive(test::sourceDir() + "/config-ini/live-openni2.ini", dir);
+  EXPECT_NE(r.result.exitCode, 0) << r.result.output;
+  EXPECT_LT(r.result.exitCode, 128) << "crashed: " << r.result.output;
+  EXPECT_NE(r.result.output.find("OpenNI2"), std::string::npos) << r.result.output;
+  EXPECT_NE(r.result.output.find("device_number = 0"), std::string::npos) << r.result.output;
+  EXPECT_NE(r.result.output.find("lsusb"), std::string::npos) << r.result.output;
+  EXPECT_LT(r.seconds, 10) << r.result.output;
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
+TEST(SlamdunkLive, GenericSensorCCameraSensorReplaysARawlog) {
+  REQUIRE_RAWLOG(rawlog, "fr1_desk_9f");
+  const std::string dir = test::scratchDir("Live_CCameraSensor");
+  const std::string ini = writeFile(dir + "/camera.ini",
+                                    "[slamdunk-live]\nsource = CAM\n[CAM]\ndriver = CCameraSensor\n"
+                                    "grabber_type = rawlog\nrawlog_file = " +
+                                        rawlog + "\nprocess_rate = 30\nsensorLabel = CAM\n");
+  const LiveRun r = runLive(ini, dir);
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("frames_received"), 9) << r.result.output;
+  EXPECT_EQ(r.value("frames_processed") + r.value("frames_dropped"), 9) << r.result.output;
+  EXPECT_GE(readTumTrajectory(r.trajectory).size(), 5u) << r.result.output;
+}
+
+TEST(SlamdunkLive, RecordingReplaysWithoutTheSourceImages) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");  // images stored externally: the recording must embed them
+  const std::string dir = test::scratchDir("Live_Record");
+  const std::string recording = dir + "/recorded.rawlog";
+  const LiveRun live =
+      runLive(replayIni(dir, rawlog), dir, "--max-frames 60 --record " + q(recording));
+  ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
+  EXPECT_EQ(live.value("recorded"), 60) << live.result.output;
+  EXPECT_FALSE(fs::exists(dir + "/recorded_Images"));
+  const auto offline = test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(recording) +
+                                        " --trajectory " + q(dir + "/offline.txt") + " --json -q");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  EXPECT_EQ(jsonValue(offline.output, "frames"), 60) << offline.output;
+  EXPECT_EQ(jsonValue(offline.output, "lost"), 0) << offline.output;
+}
+
+// ------------------------------------------------------------------ bad input
+
+TEST(SlamdunkLiveBadInput, MissingIni) {
+  const std::string dir = test::scratchDir("Live_MissingIni");
+  const LiveRun r = runLive(dir + "/nope.ini", dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("nope.ini' does not exist"), std::string::npos) << r.result.output;
+}
+
+TEST(SlamdunkLiveBadInput, UnknownKeysAreNamed) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("Live_UnknownKey");
+  LiveRun r = runLive(replayIni(dir, rawlog, "queue_capacty = 3"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("queue_capacty"), std::string::npos) << r.result.output;
+
+  r = runLive(replayIni(dir, rawlog, "", "sped = 2"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("sped"), std::string::npos) << r.result.output;
+
+  r = runLive(replayIni(dir, rawlog, "\n[pipeline.slam]\noptimiser_thread = true"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("optimiser_thread"), std::string::npos) << r.result.output;
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
+TEST(SlamdunkLiveBadInput, MissingReplayRawlog) {
+  const std::string dir = test::scratchDir("Live_MissingRawlog");
+  LiveRun r = runLive(replayIni(dir, dir + "/missing.rawlog"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("missing.rawlog' does not exist"), std::string::npos)
+      << r.result.output;
+
+  r = runLive(replayIni(dir, ""), dir);  // no rawlog anywhere
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("--rawlog"), std::string::npos) << r.result.output;
+
+  r = runLive(replayIni(dir, ""), dir, "--rawlog " + q(dir + "/other.rawlog"));
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("other.rawlog' does not exist"), std::string::npos)
+      << r.result.output;
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
+TEST(SlamdunkLiveBadInput, BadSourceSections) {
+  const std::string dir = test::scratchDir("Live_BadSource");
+  LiveRun r = runLive(writeFile(dir + "/a.ini", "[slamdunk-live]\nsource = NOPE\n"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("[NOPE]"), std::string::npos) << r.result.output;
+
+  r = runLive(writeFile(dir + "/b.ini", "[slamdunk-live]\nsource = S\n[S]\ndriver = CNoSuchCam\n"),
+              dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("CNoSuchCam"), std::string::npos) << r.result.output;
+
+  r = runLive(test::sourceDir() + "/config-ini/live-openni2.ini", dir, "--speed 2");
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("replay source only"), std::string::npos) << r.result.output;
+}
