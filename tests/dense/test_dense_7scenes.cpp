@@ -286,7 +286,7 @@ TEST_F(SevenScenesDense, RendersTheMapHeadless) {
     }
   std::cout << "[ 7scenes ] " << 100.0 * nonBg / img.total() << "% of pixels drawn, "
             << distinct.size() << " distinct colours\n";
-  EXPECT_GT(nonBg, img.total() / 5);
+  EXPECT_GT(nonBg, img.total() / 8);
   EXPECT_GT(distinct.size(), 500u);
   EXPECT_NO_THROW(MapRenderer::loadScene(dir_ + "/../Dense_7Scenes.3Dscene"));
 }
