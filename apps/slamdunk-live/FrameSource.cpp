@@ -13,7 +13,8 @@ namespace slamdunk::live {
 namespace {
 std::string resolve(const std::string& path, const std::string& baseDir) {
   const std::filesystem::path p(path);
-  return p.is_relative() && !baseDir.empty() ? (std::filesystem::path(baseDir) / p).string() : path;
+  if (path.empty() || !p.is_relative() || baseDir.empty()) return path;
+  return (std::filesystem::path(baseDir) / p).string();
 }
 }  // namespace
 

@@ -31,6 +31,7 @@ std::string firstLine(const std::string& what) {
 SensorFrameSource::SensorFrameSource(const mrpt::config::CConfigFileBase& cfg, std::string section,
                                      std::string driver, double frameTimeoutSeconds)
     : section_(std::move(section)), driver_(std::move(driver)), frameTimeout_(frameTimeoutSeconds) {
+  StdoutToStderr quiet;
   sensor_ = mrpt::hwdrivers::CGenericSensor::createSensorPtr(driver_);
   if (!sensor_)
     throw std::runtime_error("[" + section_ + "] driver = " + driver_ +
@@ -47,7 +48,6 @@ SensorFrameSource::SensorFrameSource(const mrpt::config::CConfigFileBase& cfg, s
   if (driver_ == "CCameraSensor" && cfg.read_string(section_, "grabber_type", "") == "rawlog")
     mrpt::io::setLazyLoadPathBase(
         RawlogReader::imagesDirectoryFor(cfg.read_string(section_, "rawlog_file", "")));
-  StdoutToStderr quiet;
   try {
     sensor_->loadConfig(cfg, section_);
   } catch (const std::exception& e) {

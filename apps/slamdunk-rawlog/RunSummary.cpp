@@ -59,6 +59,7 @@ void printRunSummary(const RunFigures& f, bool json) {
     std::printf("  \"optimization_max_translation_m\": %.6f, \"optimization_max_rotation_deg\": "
                 "%.4f,\n",
                 s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+    std::printf("  \"first_tracked_frame\": %ld,\n", f.firstTrackedFrame);
     std::printf("  \"fps\": %.2f, \"wall_s\": %.3f, \"peak_rss_mib\": %.1f", fps, f.wallSeconds,
                 f.peakRssKiB / 1024.0);
     if (f.ate)
@@ -71,6 +72,7 @@ void printRunSummary(const RunFigures& f, bool json) {
   std::printf("slamdunk-rawlog summary\n");
   std::printf("  frames:          %zu (tracked %zu, lost %zu)\n", s.frames, s.tracked, s.lost);
   for (const auto& why : s.lostReasons) std::printf("    lost because:  %s\n", why.c_str());
+  std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
   std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
   std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
   std::printf("  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "

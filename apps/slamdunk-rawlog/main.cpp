@@ -5,7 +5,11 @@
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/dense/DenseOutputs.h>
+#include <slamdunk/dense/MapRenderer.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
+#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/slam/SimpleMapExport.h>
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <slamdunk/core/CommandLine.h>
@@ -30,15 +34,42 @@ void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r)
   char buf[512];
   const Eigen::Vector3d t = r.pose.translation();
   std::snprintf(buf, sizeof(buf),
-                "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,",
+                "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%zu,",
                 index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers,
                 r.overlap, r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0,
                 r.reference, r.timings.features, r.timings.pool, r.timings.matching,
-                r.timings.ransac, r.timings.total, t.x(), t.y(), t.z());
+                r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(), r.poolSize);
   std::string reason = r.lostReason;
   for (char& c : reason)
     if (c == ',') c = ';';
   out << buf << reason << "\n";
+}
+
+/// The optional map products of a run, each written atomically by its module.
+void writeMapOutputs(const SlamSystem& slam, const Trajectory& traj, const std::string& mapPath,
+                     const std::string& densePrefix, const std::string& pngPath,
+                     const std::string& simpleMapPath, bool quiet) {
+  const KeyframeGraph& graph = *slam.graph();
+  if (!mapPath.empty()) {
+    CKeyframeGraphMap(slam.graph()).saveToFile(mapPath);
+    if (!quiet) std::fprintf(stderr, "[slamdunk-rawlog] map written to %s\n", mapPath.c_str());
+  }
+  if (!densePrefix.empty()) {
+    const auto d = writeDenseOutputs(graph, densePrefix);
+    if (!quiet)
+      std::fprintf(stderr, "[slamdunk-rawlog] dense cloud of %zu points and OctoMap (%zu "
+                   "occupied voxels) written to %s.{ply,pcd,ot,bt}\n",
+                   d.cloudPoints, d.occupancy.occupiedLeaves, densePrefix.c_str());
+  }
+  if (!pngPath.empty()) {
+    const fs::path png(pngPath);
+    const std::string scene = (png.parent_path() / (png.stem().string() + ".3Dscene")).string();
+    renderKeyframeGraph(graph, traj, pngPath, scene);
+    if (!quiet)
+      std::fprintf(stderr, "[slamdunk-rawlog] picture %s, scene %s\n", pngPath.c_str(),
+                   scene.c_str());
+  }
+  if (!simpleMapPath.empty()) exportSimpleMap(graph, simpleMapPath);
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -71,6 +102,25 @@ int main(int argc, char** argv) {
                                    0, "N", cmd);
     TCLAP::ValueArg<size_t> argFirst("", "first-frame", "skip the frames before this index",
                                      false, 0, "I", cmd);
+    TCLAP::ValueArg<std::string> argLoadMap(
+        "", "load-map", "start from a saved map: the camera relocalizes in it, then mapping "
+        "continues (trajectory in the saved map's frame)", false, "", "IN.map", cmd);
+    TCLAP::ValueArg<std::string> argSaveMap(
+        "", "save-map", "write the keyframe-graph map (slamdunk::CKeyframeGraphMap, readable by "
+        "slamdunk-render and by MRPT tools that load libslamdunk_maps.so)", false, "", "OUT.map",
+        cmd);
+    TCLAP::SwitchArg argMapImages(
+        "", "map-images", "keep keyframe colour+depth in the map (needed later for dense "
+        "outputs from a saved map; about 0.6 MB per keyframe in the file)", cmd);
+    TCLAP::ValueArg<std::string> argDense(
+        "", "dense", "write the dense reconstruction: PREFIX.ply and PREFIX.pcd (voxel-filtered "
+        "coloured cloud) and PREFIX.ot / PREFIX.bt (OctoMap)", false, "", "PREFIX", cmd);
+    TCLAP::ValueArg<std::string> argRender(
+        "", "render", "render the map (cloud, trajectory, keyframes) offscreen to a PNG; a "
+        ".3Dscene for SceneViewer3D is written beside it", false, "", "OUT.png", cmd);
+    TCLAP::ValueArg<std::string> argSimpleMap(
+        "", "simplemap", "export keyframe poses + observations as an MRPT .simplemap (for "
+        "observations2map and friends)", false, "", "OUT.simplemap", cmd);
     TCLAP::ValueArg<std::string> argFrameLog(
         "", "frame-log", "write one CSV line per frame (status, features, matches, inliers, "
         "overlap, keyframe, loop closure, ms per stage)", false, "", "FRAMES.csv", cmd);
@@ -84,13 +134,18 @@ int main(int argc, char** argv) {
     SlamOptions options;
     if (argConfig.isSet()) options = SlamOptions::fromFile(argConfig.getValue());
     if (argNoOpt.getValue()) options.localOptimization = false;
+    if (argMapImages.isSet() || argDense.isSet() || argRender.isSet() || argSimpleMap.isSet())
+      options.tracker.keepKeyframeImages = true;
     // Fail on unwritable outputs before spending minutes on the run.
-    for (const std::string& out : {argTraj.getValue(), argKf.getValue()}) {
+    for (const std::string& out : {argTraj.getValue(), argKf.getValue(), argSaveMap.getValue(),
+                                   argDense.getValue(), argRender.getValue(),
+                                   argSimpleMap.getValue(), argFrameLog.getValue()}) {
       if (out.empty()) continue;
       const fs::path dir = fs::path(out).parent_path();
       if (!dir.empty() && !fs::is_directory(dir))
         throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
     }
+    const bool quiet = argQuiet.getValue();
     Trajectory groundTruth;
     if (argGt.isSet()) groundTruth = readTumTrajectory(argGt.getValue());
 
@@ -103,12 +158,19 @@ int main(int argc, char** argv) {
                   "keyframe_id,loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,"
                   "ms_total,tx,ty,tz,lost_reason\n";
     }
+    std::shared_ptr<KeyframeGraph> startMap;
+    if (argLoadMap.isSet()) {
+      startMap = CKeyframeGraphMap::loadFromFile(argLoadMap.getValue())->graph();
+      if (!quiet)
+        std::fprintf(stderr, "[slamdunk-rawlog] loaded map '%s': %zu keyframes, %zu edges\n",
+                     argLoadMap.getValue().c_str(), startMap->keyframeCount(),
+                     startMap->edgeCount());
+    }
     RawlogReader reader(argIn.getValue());
-    SlamSystem slam(options);
+    SlamSystem slam(options, startMap);
     RunFigures fig;
     const auto start = std::chrono::steady_clock::now();
     size_t index = 0;
-    const bool quiet = argQuiet.getValue();
     std::string readError;
     for (;;) {
       const auto t = std::chrono::steady_clock::now();
@@ -130,6 +192,8 @@ int main(int argc, char** argv) {
       fig.decodeMs.push_back(decodeMs);
       const size_t n = fig.decodeMs.size();
       if (frameLog.is_open()) writeFrameLogLine(frameLog, n - 1, r);
+      if (fig.firstTrackedFrame < 0 && r.status != TrackingStatus::Lost)
+        fig.firstTrackedFrame = static_cast<long>(n - 1);
       if (!quiet && r.status == TrackingStatus::Lost)
         std::fprintf(stderr, "frame %zu (t=%.6f): lost: %s\n", n - 1, r.timestamp,
                      r.lostReason.c_str());
@@ -173,6 +237,8 @@ int main(int argc, char** argv) {
       frameLog.close();
       frameLogOut->commit();
     }
+    writeMapOutputs(slam, traj, argSaveMap.getValue(), argDense.getValue(),
+                    argRender.getValue(), argSimpleMap.getValue(), quiet);
     printRunSummary(fig, argJson.getValue());
     if (!readError.empty()) {
       std::cerr << "slamdunk-rawlog: error: " << readError << "; the outputs cover the "

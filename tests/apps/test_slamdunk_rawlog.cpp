@@ -13,6 +13,7 @@
 #include <mrpt/system/datetime.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -279,4 +280,107 @@ TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
   ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
   EXPECT_EQ(s.value("tracked"), 1000) << s.result.output;
   EXPECT_LE(s.value("ate_rmse_m"), 0.045) << s.result.output;
+}
+
+// ------------------------------------------------------------------ saved maps
+
+namespace {
+
+/// RMSE of the estimated positions against ground truth expressed in the frame of the first
+/// ground-truth pose (= the saved map's world), without any alignment.
+double rmseInMapFrame(const Trajectory& est, const Trajectory& gt, double* maxError = nullptr) {
+  const Pose origin = gt.front().pose.inverse();
+  double sq = 0, mx = 0;
+  size_t n = 0;
+  for (const auto& e : est) {
+    const auto it = std::min_element(gt.begin(), gt.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.timestamp - e.timestamp) < std::abs(b.timestamp - e.timestamp);
+    });
+    if (std::abs(it->timestamp - e.timestamp) > 0.02) continue;
+    const double d = ((origin * it->pose).translation() - e.pose.translation()).norm();
+    sq += d * d;
+    mx = std::max(mx, d);
+    ++n;
+  }
+  if (maxError) *maxError = mx;
+  return n ? std::sqrt(sq / n) : std::nan("");
+}
+
+struct RelocalizationFigures {
+  double firstTracked = -1, rmseInMap = 0, maxInMap = 0, tracked = 0;
+};
+
+RelocalizationFigures mapThenRelocalize(const std::string& rawlog, const std::string& dir,
+                                        int half) {
+  RelocalizationFigures f;
+  const std::string map = dir + "/first-half.map";
+  const SlamRun first =
+      runSlam(rawlog, dir, "--max-frames " + std::to_string(half) + " --save-map " + q(map));
+  EXPECT_EQ(first.result.exitCode, 0) << first.result.output;
+  EXPECT_TRUE(fs::exists(map));
+  const std::string second = dir + "/second";
+  fs::create_directories(second);
+  const SlamRun r = runSlam(rawlog, second,
+                            "--first-frame " + std::to_string(half) + " --load-map " + q(map));
+  EXPECT_EQ(r.result.exitCode, 0) << r.result.output;
+  f.firstTracked = r.value("first_tracked_frame");
+  f.tracked = r.value("tracked");
+  f.rmseInMap = rmseInMapFrame(readTumTrajectory(r.trajectory),
+                               readTumTrajectory(groundTruthOf(rawlog)), &f.maxInMap);
+  return f;
+}
+
+}  // namespace
+
+TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfTheSyntheticLoopInTheSavedMap) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const auto f = mapThenRelocalize(rawlog, test::scratchDir("SlamMaps_RelocLoop"), 200);
+  std::cout << "synthetic loop: relocalized at frame " << f.firstTracked << ", RMSE in the saved"
+            << " map's frame " << f.rmseInMap << " m (max " << f.maxInMap << ")\n";
+  EXPECT_GE(f.firstTracked, 0);
+  EXPECT_LT(f.firstTracked, 10);
+  EXPECT_EQ(f.tracked, 200);
+  EXPECT_LE(f.rmseInMap, 0.01);
+}
+
+TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
+  REQUIRE_RAWLOG(rawlog, "7scenes");
+  const auto f = mapThenRelocalize(rawlog, test::scratchDir("SlamMaps_Reloc7"), 500);
+  std::cout << "7-Scenes: relocalized at frame " << f.firstTracked << " of the second half, "
+            << f.tracked << " tracked, RMSE in the saved map's frame " << f.rmseInMap
+            << " m (max " << f.maxInMap << ")\n";
+  EXPECT_GE(f.firstTracked, 0);
+  EXPECT_LT(f.firstTracked, 10);
+  EXPECT_EQ(f.tracked, 500);
+  EXPECT_LE(f.rmseInMap, 0.15);  // includes the first half's own mapping error
+}
+
+TEST(SlamdunkRawlogMaps, WritesMapDenseOutputsPictureAndSimpleMap) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamMaps_Outputs");
+  const SlamRun r = runSlam(rawlog, dir,
+                            "--save-map " + q(dir + "/m.map") + " --dense " + q(dir + "/dense") +
+                                " --render " + q(dir + "/m.png") + " --simplemap " +
+                                q(dir + "/m.simplemap"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  for (const char* f : {"m.map", "dense.ply", "dense.pcd", "dense.ot", "dense.bt", "m.png",
+                        "m.3Dscene", "m.simplemap"})
+    EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
+  // The saved map renders through the stand-alone renderer too.
+  const auto render = test::runCommand(test::toolPath("slamdunk-render") + " " +
+                                       q(dir + "/m.map") + " " + q(dir + "/again.png") +
+                                       " --width 320 --height 240");
+  EXPECT_EQ(render.exitCode, 0) << render.output;
+  const cv::Mat png = cv::imread(dir + "/again.png");
+  EXPECT_EQ(png.cols, 320);
+  EXPECT_EQ(png.rows, 240);
+}
+
+TEST(SlamdunkRawlogMaps, CorruptMapIsAClearError) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamMaps_Corrupt");
+  std::ofstream(dir + "/bad.map") << "definitely not a map";
+  const SlamRun r = runSlam(rawlog, dir, "--load-map " + q(dir + "/bad.map"));
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("bad.map"), std::string::npos) << r.result.output;
 }

@@ -260,6 +260,39 @@ TEST(KeyframeGraphMap, RoundTripOfMapWithoutImagesAndEmptyMap) {
   EXPECT_TRUE(empty->isEmpty());
 }
 
+TEST(KeyframeGraphMap, DepthIsExactWhetherQuantisedOrNot) {
+  // Sensor-like depth (k millimetres, as RgbdFrame computes it) takes the 16-bit PNG path;
+  // arbitrary floats (sub-unit values, NaN, negative zero) must fall back to raw bytes.
+  const std::string dir = test::scratchDir("Maps_DepthEncoding");
+  std::mt19937 rng(7);
+  cv::Mat sensor(120, 160, CV_32F), arbitrary(120, 160, CV_32F);
+  for (int r = 0; r < sensor.rows; ++r)
+    for (int c = 0; c < sensor.cols; ++c) {
+      sensor.at<float>(r, c) = float(rng() % 5000) * 1e-3f;
+      arbitrary.at<float>(r, c) = std::uniform_real_distribution<float>(0.3f, 5.f)(rng);
+    }
+  arbitrary.at<float>(0, 0) = std::nanf("");
+  arbitrary.at<float>(0, 1) = -0.0f;
+  const auto saveOne = [&](const cv::Mat& depth, const std::string& name) {
+    auto graph = std::make_shared<KeyframeGraph>();
+    auto kf = std::make_shared<Keyframe>();
+    kf->colour = cv::Mat(depth.rows, depth.cols, CV_8UC3, cv::Scalar(10, 20, 30));
+    kf->depth = depth;
+    graph->addKeyframe(kf, Pose::Identity());
+    const std::string path = dir + "/" + name;
+    CKeyframeGraphMap(graph).saveToFile(path);
+    const auto loaded = CKeyframeGraphMap::loadFromFile(path);
+    EXPECT_TRUE(sameBytes(loaded->graph()->keyframe(0)->depth, depth)) << name;
+    EXPECT_TRUE(sameBytes(loaded->graph()->keyframe(0)->colour, kf->colour)) << name;
+    return fs::file_size(path);
+  };
+  const auto quantisedSize = saveOne(sensor, "sensor.kfmap");
+  const auto rawSize = saveOne(arbitrary, "arbitrary.kfmap");
+  // Random floats hardly compress (about 4 bytes a pixel); 16-bit PNG is at most about 2.
+  EXPECT_GT(rawSize, size_t(sensor.total()) * 3);
+  EXPECT_LT(quantisedSize, size_t(sensor.total()) * 5 / 2);
+}
+
 TEST(KeyframeGraphMap, SaveIsAtomic) {
   REQUIRE_SWEEP_GRAPH(graph);
   const std::string dir = test::scratchDir("Maps_Atomic");
@@ -410,6 +443,16 @@ show_edges = false
   mrpt::obs::CObservation3DRangeScan obs;
   EXPECT_FALSE(map->insertObservation(obs));
   EXPECT_FALSE(map->canComputeObservationLikelihood(obs));
+
+  // Without an options section the defaults apply.
+  mrpt::config::CConfigFileMemory plain("[map]\nkeyframeGraphMap_count = 1\n");
+  mrpt::maps::TSetOfMetricMapInitializers plainInits;
+  plainInits.loadFromConfigFile(plain, "map");
+  mrpt::maps::CMultiMetricMap plainMulti;
+  plainMulti.setListOfMaps(plainInits);
+  ASSERT_TRUE(plainMulti.mapByClass<CKeyframeGraphMap>());
+  EXPECT_EQ(plainMulti.mapByClass<CKeyframeGraphMap>()->renderOptions.cloudDecimation,
+            CKeyframeGraphMap::TRenderOptions().cloudDecimation);
 
   // The full class name works too, and a misspelled option is an error naming it.
   mrpt::config::CConfigFileMemory bad(R"(

@@ -158,6 +158,7 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   const std::vector<PoolMatch> matches = pool.match(features.descriptors, options_.ratioThreshold);
   r.timings.matching += msSince(t);
   r.matches = matches.size();
+  r.poolSize = pool.size();
 
   t = Clock::now();
   std::vector<Eigen::Vector3d> src, dst;

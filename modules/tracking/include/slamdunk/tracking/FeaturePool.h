@@ -17,8 +17,8 @@ namespace slamdunk {
 
 struct FeaturePoolOptions {
   int kdTrees = 4;           ///< randomized KD-trees (float descriptors)
-  int checks = 32;           ///< leaves visited per search
-  int neighbours = 8;        ///< k of the k-NN search used by the ratio test
+  int checks = 16;           ///< leaves visited per search
+  int neighbours = 4;        ///< k of the k-NN search used by the ratio test
   int searchThreads = 2;     ///< the only parallel block of tracking, as in the paper
   bool frustumFilter = true; ///< keep only features visible from the window centre
   double frustumFar = 8.0;   ///< metres

@@ -42,6 +42,7 @@ struct TrackingResult {
   bool relocalized = false;  ///< registered against the whole map after being lost
   KeyframeId keyframeId = 0; ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;
+  size_t poolSize = 0;  ///< features in the pool this frame was matched against
   double overlap = 0;
   std::vector<KeyframeId> matchedKeyframes;
   std::string lostReason;
