@@ -10,7 +10,6 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
-#include <unistd.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -25,30 +24,6 @@ std::string defaultGroundTruthPath(const std::string& rawlogPath) {
   fs::path p(rawlogPath);
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
 }
-
-/// A folder written under a temporary name and swapped in by commit(), like AtomicOutput.
-class AtomicFolder {
- public:
-  explicit AtomicFolder(std::string target)
-      : target_(std::move(target)), temp_(target_ + ".tmp-" + std::to_string(::getpid())) {
-    fs::remove_all(temp_);
-    fs::create_directories(temp_);
-  }
-  ~AtomicFolder() {
-    std::error_code ec;
-    if (!committed_) fs::remove_all(temp_, ec);
-  }
-  const std::string& tempPath() const { return temp_; }
-  void commit() {
-    fs::remove_all(target_);
-    fs::rename(temp_, target_);
-    committed_ = true;
-  }
-
- private:
-  std::string target_, temp_;
-  bool committed_ = false;
-};
 
 }  // namespace
 
@@ -78,10 +53,10 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
   }
 
   AtomicOutput rawlogOut(opts.rawlogPath);
-  std::unique_ptr<AtomicFolder> images;
+  std::unique_ptr<AtomicOutputFolder> images;
   if (opts.externalImages) {
     sum.imagesFolder = RawlogReader::imagesDirectoryFor(opts.rawlogPath);
-    images = std::make_unique<AtomicFolder>(sum.imagesFolder);
+    images = std::make_unique<AtomicOutputFolder>(sum.imagesFolder);
   }
   {
     mrpt::io::CFileGZOutputStream file;

@@ -46,4 +46,23 @@ void AtomicOutput::commit() {
   committed_ = true;
 }
 
+AtomicOutputFolder::AtomicOutputFolder(std::string targetPath)
+    : target_(std::move(targetPath)), temp_(makeTempName(target_)) {
+  fs::remove_all(temp_);
+  fs::create_directories(temp_);
+}
+
+AtomicOutputFolder::~AtomicOutputFolder() {
+  std::error_code ec;
+  if (!committed_) fs::remove_all(temp_, ec);
+}
+
+void AtomicOutputFolder::commit() {
+  std::error_code ec;
+  fs::remove_all(target_, ec);
+  fs::rename(temp_, target_, ec);
+  if (ec) throw std::runtime_error("cannot write folder '" + target_ + "': " + ec.message());
+  committed_ = true;
+}
+
 }  // namespace slamdunk

@@ -12,7 +12,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -22,36 +21,6 @@
 namespace fs = std::filesystem;
 
 namespace slamdunk {
-
-namespace {
-
-/// A folder written under a temporary name and swapped in by commit(), like AtomicOutput.
-class AtomicFolder {
- public:
-  explicit AtomicFolder(std::string target)
-      : target_(std::move(target)), temp_(target_ + ".tmp-" + std::to_string(::getpid())) {
-    fs::remove_all(temp_);
-    fs::create_directories(temp_);
-  }
-  ~AtomicFolder() {
-    std::error_code ec;
-    if (!committed_) fs::remove_all(temp_, ec);
-  }
-  AtomicFolder(const AtomicFolder&) = delete;
-  AtomicFolder& operator=(const AtomicFolder&) = delete;
-  const std::string& tempPath() const { return temp_; }
-  void commit() {
-    fs::remove_all(target_);
-    fs::rename(temp_, target_);
-    committed_ = true;
-  }
-
- private:
-  std::string target_, temp_;
-  bool committed_ = false;
-};
-
-}  // namespace
 
 CameraIntrinsics SyntheticOptions::intrinsics() const {
   CameraIntrinsics K;
@@ -185,10 +154,10 @@ SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
   sum.stats = SyntheticTrajectory::stats(seq.groundTruth());
 
   AtomicOutput rawlogOut(rawlogPath);
-  std::unique_ptr<AtomicFolder> images;
+  std::unique_ptr<AtomicOutputFolder> images;
   if (options.externalImages) {
     sum.imagesFolder = RawlogReader::imagesDirectoryFor(rawlogPath);
-    images = std::make_unique<AtomicFolder>(sum.imagesFolder);
+    images = std::make_unique<AtomicOutputFolder>(sum.imagesFolder);
   }
   {
     mrpt::io::CFileGZOutputStream file;

@@ -25,4 +25,23 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+/// The same for a folder (e.g. a rawlog's "<name>_Images"): filled under a temporary name beside
+/// the target and swapped in by commit(); removed if never committed.
+class AtomicOutputFolder {
+ public:
+  explicit AtomicOutputFolder(std::string targetPath);
+  ~AtomicOutputFolder();
+  AtomicOutputFolder(const AtomicOutputFolder&) = delete;
+  AtomicOutputFolder& operator=(const AtomicOutputFolder&) = delete;
+
+  const std::string& tempPath() const { return temp_; }
+  /// Replaces the target folder (and everything in it) by the temporary one.
+  void commit();
+
+ private:
+  std::string target_;
+  std::string temp_;
+  bool committed_ = false;
+};
+
 }  // namespace slamdunk
