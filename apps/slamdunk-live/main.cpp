@@ -176,15 +176,15 @@ int main(int argc, char** argv) {
 #ifdef SLAMDUNK_LIVE_WITH_MAPS
     if (argMap.isSet()) CKeyframeGraphMap(slam.graph()).saveToFile(argMap.getValue());
 #endif
-#ifdef SLAMDUNK_LIVE_WITH_RENDER
-    // Last: the picture is a convenience, the files above are the results.
-    if (argRender.isSet()) renderKeyframeGraph(*slam.graph(), traj, argRender.getValue());
-#endif
     if (recorder) {
       recorder->finish();
       fig.recorded = recorder->written();
       fig.recordSkipped = recorder->skipped();
     }
+#ifdef SLAMDUNK_LIVE_WITH_RENDER
+    // Last: the picture is a convenience, the files above are the results.
+    if (argRender.isSet()) renderKeyframeGraph(*slam.graph(), traj, argRender.getValue());
+#endif
     if (!groundTruth.empty() && traj.size() >= 3) {
       const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, traj);
       fig.ate = LiveAte{ev.ate.stats.rmse, ev.ate.stats.mean, ev.ate.stats.median, ev.ate.stats.max,

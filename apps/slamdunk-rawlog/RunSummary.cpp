@@ -48,24 +48,28 @@ void printRunSummary(const RunFigures& f, bool json) {
                 s.frames, s.tracked, s.lost, s.keyframes);
     std::printf("  \"edges\": %zu, \"optimizations\": %zu, \"loop_closures\": %zu,\n", f.edges,
                 s.optimizations, s.loopClosures);
-    std::printf("  \"ms_features_median\": %.3f, \"ms_pool_median\": %.3f, "
-                "\"ms_matching_median\": %.3f, \"ms_ransac_median\": %.3f,\n",
-                median(feat), median(pool), median(match), median(ransac));
-    std::printf("  \"ms_tracking_median\": %.3f, \"ms_tracking_mean\": %.3f, "
-                "\"ms_decode_median\": %.3f,\n",
-                median(total), mean(total), median(f.decodeMs));
+    std::printf(
+        "  \"ms_features_median\": %.3f, \"ms_pool_median\": %.3f, "
+        "\"ms_matching_median\": %.3f, \"ms_ransac_median\": %.3f,\n",
+        median(feat), median(pool), median(match), median(ransac));
+    std::printf(
+        "  \"ms_tracking_median\": %.3f, \"ms_tracking_mean\": %.3f, "
+        "\"ms_decode_median\": %.3f,\n",
+        median(total), mean(total), median(f.decodeMs));
     std::printf("  \"ms_optimization_median\": %.3f, \"ms_optimization_max\": %.3f,\n",
                 median(s.optimizationMs), maxOf(s.optimizationMs));
-    std::printf("  \"optimization_max_translation_m\": %.6f, \"optimization_max_rotation_deg\": "
-                "%.4f,\n",
-                s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+    std::printf(
+        "  \"optimization_max_translation_m\": %.6f, \"optimization_max_rotation_deg\": "
+        "%.4f,\n",
+        s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
     std::printf("  \"first_tracked_frame\": %ld,\n", f.firstTrackedFrame);
     std::printf("  \"fps\": %.2f, \"wall_s\": %.3f, \"peak_rss_mib\": %.1f", fps, f.wallSeconds,
                 f.peakRssKiB / 1024.0);
     if (f.ate)
-      std::printf(",\n  \"ate_rmse_m\": %.6f, \"ate_mean_m\": %.6f, \"ate_median_m\": %.6f, "
-                  "\"ate_max_m\": %.6f, \"ate_pairs\": %zu",
-                  f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+      std::printf(
+          ",\n  \"ate_rmse_m\": %.6f, \"ate_mean_m\": %.6f, \"ate_median_m\": %.6f, "
+          "\"ate_max_m\": %.6f, \"ate_pairs\": %zu",
+          f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
     std::printf("\n}\n");
     return;
   }
@@ -75,10 +79,11 @@ void printRunSummary(const RunFigures& f, bool json) {
   std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
   std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
   std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
-  std::printf("  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "
-              "%.3f deg\n",
-              s.optimizations, median(s.optimizationMs), maxOf(s.optimizationMs),
-              s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+  std::printf(
+      "  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "
+      "%.3f deg\n",
+      s.optimizations, median(s.optimizationMs), maxOf(s.optimizationMs),
+      s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
   std::printf("  ms per frame     median   mean\n");
   std::printf("    decode         %6.2f %6.2f\n", median(f.decodeMs), mean(f.decodeMs));
   std::printf("    features       %6.2f %6.2f\n", median(feat), mean(feat));
@@ -89,10 +94,10 @@ void printRunSummary(const RunFigures& f, bool json) {
   std::printf("  speed:           %.1f frames/s over %.2f s (whole app)\n", fps, f.wallSeconds);
   std::printf("  peak memory:     %.1f MiB\n", f.peakRssKiB / 1024.0);
   if (f.ate)
-    std::printf("  ATE:             rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs, %zu "
-                "estimated poses without ground truth)\n",
-                f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs,
-                f.ate->unmatched);
+    std::printf(
+        "  ATE:             rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs, %zu "
+        "estimated poses without ground truth)\n",
+        f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs, f.ate->unmatched);
 }
 
 }  // namespace slamdunk

@@ -16,8 +16,8 @@ struct AteFigures {
 struct RunFigures {
   SlamStatistics stats;
   size_t edges = 0;
-  double wallSeconds = 0;       ///< whole run: reading, decoding, tracking, optimizing
-  std::vector<double> decodeMs; ///< per frame: rawlog read + image decode
+  double wallSeconds = 0;        ///< whole run: reading, decoding, tracking, optimizing
+  std::vector<double> decodeMs;  ///< per frame: rawlog read + image decode
   long peakRssKiB = 0;
   long firstTrackedFrame = -1;  ///< index of the first frame not lost (relocalization delay)
   std::optional<AteFigures> ate;

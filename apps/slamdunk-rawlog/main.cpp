@@ -33,12 +33,13 @@ std::string keyframePathFor(const std::string& trajectoryPath) {
 void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r) {
   char buf[512];
   const Eigen::Vector3d t = r.pose.translation();
-  std::snprintf(buf, sizeof(buf),
-                "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%zu,",
-                index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers,
-                r.overlap, r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0,
-                r.reference, r.timings.features, r.timings.pool, r.timings.matching,
-                r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(), r.poolSize);
+  std::snprintf(
+      buf, sizeof(buf),
+      "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%zu,",
+      index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers, r.overlap,
+      r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0, r.reference, r.timings.features,
+      r.timings.pool, r.timings.matching, r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(),
+      r.poolSize);
   std::string reason = r.lostReason;
   for (char& c : reason)
     if (c == ',') c = ';';
@@ -57,7 +58,8 @@ void writeMapOutputs(const SlamSystem& slam, const Trajectory& traj, const std::
   if (!densePrefix.empty()) {
     const auto d = writeDenseOutputs(graph, densePrefix);
     if (!quiet)
-      std::fprintf(stderr, "[slamdunk-rawlog] dense cloud of %zu points and OctoMap (%zu "
+      std::fprintf(stderr,
+                   "[slamdunk-rawlog] dense cloud of %zu points and OctoMap (%zu "
                    "occupied voxels) written to %s.{ply,pcd,ot,bt}\n",
                    d.cloudPoints, d.occupancy.occupiedLeaves, densePrefix.c_str());
   }
@@ -88,9 +90,10 @@ int main(int argc, char** argv) {
         ' ', "1.0");
     TCLAP::UnlabeledValueArg<std::string> argIn("IN", "input rawlog", true, "", "IN.rawlog", cmd);
     TCLAP::ValueArg<std::string> argConfig(
-        "c", "config", "pipeline INI (sections [features] [tracker] [optimizer] [slam]); default: "
-        "built-in values, the same as config-ini/slamdunk-default.ini", false, "", "PIPELINE.ini",
-        cmd);
+        "c", "config",
+        "pipeline INI (sections [features] [tracker] [optimizer] [slam]); default: "
+        "built-in values, the same as config-ini/slamdunk-default.ini",
+        false, "", "PIPELINE.ini", cmd);
     TCLAP::ValueArg<std::string> argTraj("t", "trajectory", "output TUM trajectory of all frames",
                                          true, "", "OUT.txt", cmd);
     TCLAP::ValueArg<std::string> argKf(
@@ -98,38 +101,53 @@ int main(int argc, char** argv) {
         false, "", "KF.txt", cmd);
     TCLAP::ValueArg<std::string> argGt("g", "gt", "ground truth (TUM file): print ATE at the end",
                                        false, "", "GT.txt", cmd);
-    TCLAP::ValueArg<size_t> argMax("", "max-frames", "process at most N frames (0 = all)", false,
-                                   0, "N", cmd);
-    TCLAP::ValueArg<size_t> argFirst("", "first-frame", "skip the frames before this index",
-                                     false, 0, "I", cmd);
+    TCLAP::ValueArg<size_t> argMax("", "max-frames", "process at most N frames (0 = all)", false, 0,
+                                   "N", cmd);
+    TCLAP::ValueArg<size_t> argFirst("", "first-frame", "skip the frames before this index", false,
+                                     0, "I", cmd);
     TCLAP::ValueArg<std::string> argLoadMap(
-        "", "load-map", "start from a saved map: the camera relocalizes in it, then mapping "
-        "continues (trajectory in the saved map's frame)", false, "", "IN.map", cmd);
+        "", "load-map",
+        "start from a saved map: the camera relocalizes in it, then mapping "
+        "continues (trajectory in the saved map's frame)",
+        false, "", "IN.map", cmd);
     TCLAP::ValueArg<std::string> argSaveMap(
-        "", "save-map", "write the keyframe-graph map (slamdunk::CKeyframeGraphMap, readable by "
-        "slamdunk-render and by MRPT tools that load libslamdunk_maps.so)", false, "", "OUT.map",
-        cmd);
+        "", "save-map",
+        "write the keyframe-graph map (slamdunk::CKeyframeGraphMap, readable by "
+        "slamdunk-render and by MRPT tools that load libslamdunk_maps.so)",
+        false, "", "OUT.map", cmd);
     TCLAP::SwitchArg argMapImages(
-        "", "map-images", "keep keyframe colour+depth in the map (needed later for dense "
-        "outputs from a saved map; about 0.6 MB per keyframe in the file)", cmd);
+        "", "map-images",
+        "keep keyframe colour+depth in the map (needed later for dense "
+        "outputs from a saved map; about 0.6 MB per keyframe in the file)",
+        cmd);
     TCLAP::ValueArg<std::string> argDense(
-        "", "dense", "write the dense reconstruction: PREFIX.ply and PREFIX.pcd (voxel-filtered "
-        "coloured cloud) and PREFIX.ot / PREFIX.bt (OctoMap)", false, "", "PREFIX", cmd);
+        "", "dense",
+        "write the dense reconstruction: PREFIX.ply and PREFIX.pcd (voxel-filtered "
+        "coloured cloud) and PREFIX.ot / PREFIX.bt (OctoMap)",
+        false, "", "PREFIX", cmd);
     TCLAP::ValueArg<std::string> argRender(
-        "", "render", "render the map (cloud, trajectory, keyframes) offscreen to a PNG; a "
-        ".3Dscene for SceneViewer3D is written beside it", false, "", "OUT.png", cmd);
+        "", "render",
+        "render the map (cloud, trajectory, keyframes) offscreen to a PNG; a "
+        ".3Dscene for SceneViewer3D is written beside it",
+        false, "", "OUT.png", cmd);
     TCLAP::ValueArg<std::string> argSimpleMap(
-        "", "simplemap", "export keyframe poses + observations as an MRPT .simplemap (for "
-        "observations2map and friends)", false, "", "OUT.simplemap", cmd);
+        "", "simplemap",
+        "export keyframe poses + observations as an MRPT .simplemap (for "
+        "observations2map and friends)",
+        false, "", "OUT.simplemap", cmd);
     TCLAP::ValueArg<std::string> argFrameLog(
-        "", "frame-log", "write one CSV line per frame (status, features, matches, inliers, "
-        "overlap, keyframe, loop closure, ms per stage)", false, "", "FRAMES.csv", cmd);
+        "", "frame-log",
+        "write one CSV line per frame (status, features, matches, inliers, "
+        "overlap, keyframe, loop closure, ms per stage)",
+        false, "", "FRAMES.csv", cmd);
     TCLAP::SwitchArg argJson("", "json", "print the summary as JSON", cmd);
     TCLAP::SwitchArg argNoOpt("", "no-optimization",
                               "disable the local optimization (same as [slam] "
-                              "local_optimization=false)", cmd);
+                              "local_optimization=false)",
+                              cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
-    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "slamdunk-rawlog")) return *exitCode;
+    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "slamdunk-rawlog"))
+      return *exitCode;
 
     SlamOptions options;
     if (argConfig.isSet()) options = SlamOptions::fromFile(argConfig.getValue());
@@ -137,9 +155,9 @@ int main(int argc, char** argv) {
     if (argMapImages.isSet() || argDense.isSet() || argRender.isSet() || argSimpleMap.isSet())
       options.tracker.keepKeyframeImages = true;
     // Fail on unwritable outputs before spending minutes on the run.
-    for (const std::string& out : {argTraj.getValue(), argKf.getValue(), argSaveMap.getValue(),
-                                   argDense.getValue(), argRender.getValue(),
-                                   argSimpleMap.getValue(), argFrameLog.getValue()}) {
+    for (const std::string& out :
+         {argTraj.getValue(), argKf.getValue(), argSaveMap.getValue(), argDense.getValue(),
+          argRender.getValue(), argSimpleMap.getValue(), argFrameLog.getValue()}) {
       if (out.empty()) continue;
       const fs::path dir = fs::path(out).parent_path();
       if (!dir.empty() && !fs::is_directory(dir))
@@ -199,17 +217,16 @@ int main(int argc, char** argv) {
                      r.lostReason.c_str());
       if (!quiet && n % 100 == 0)
         std::fprintf(stderr, "[slamdunk-rawlog] %zu frames, %zu keyframes, %.1f frames/s\n", n,
-                     slam.graph()->keyframeCount(),
-                     n / (msSince(start) / 1000.0));
+                     slam.graph()->keyframeCount(), n / (msSince(start) / 1000.0));
       if (argMax.getValue() && n >= argMax.getValue()) break;
     }
     if (!readError.empty() && fig.decodeMs.empty()) throw std::runtime_error(readError);
     if (reader.entriesRead() > 0 && fig.decodeMs.empty())
-      throw std::runtime_error("rawlog '" + argIn.getValue() +
-                               "' has no CObservation3DRangeScan (" +
-                               std::to_string(reader.otherObservationsSkipped()) +
-                               " other observations)");
-    if (fig.decodeMs.empty()) throw std::runtime_error("rawlog '" + argIn.getValue() + "' is empty");
+      throw std::runtime_error(
+          "rawlog '" + argIn.getValue() + "' has no CObservation3DRangeScan (" +
+          std::to_string(reader.otherObservationsSkipped()) + " other observations)");
+    if (fig.decodeMs.empty())
+      throw std::runtime_error("rawlog '" + argIn.getValue() + "' is empty");
     slam.finish();
     fig.wallSeconds = msSince(start) / 1000.0;
     fig.stats = slam.statistics();
@@ -230,15 +247,15 @@ int main(int argc, char** argv) {
       } else {
         const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, traj);
         fig.ate = AteFigures{ev.ate.stats.rmse, ev.ate.stats.mean, ev.ate.stats.median,
-                             ev.ate.stats.max,  ev.pairs,           ev.unmatchedEstimatePoses};
+                             ev.ate.stats.max,  ev.pairs,          ev.unmatchedEstimatePoses};
       }
     }
     if (frameLogOut) {
       frameLog.close();
       frameLogOut->commit();
     }
-    writeMapOutputs(slam, traj, argSaveMap.getValue(), argDense.getValue(),
-                    argRender.getValue(), argSimpleMap.getValue(), quiet);
+    writeMapOutputs(slam, traj, argSaveMap.getValue(), argDense.getValue(), argRender.getValue(),
+                    argSimpleMap.getValue(), quiet);
     printRunSummary(fig, argJson.getValue());
     if (!readError.empty()) {
       std::cerr << "slamdunk-rawlog: error: " << readError << "; the outputs cover the "

@@ -10,7 +10,6 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
-
 #include <filesystem>
 #include <stdexcept>
 
@@ -35,8 +34,8 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
                              "' associates within " + std::to_string(opts.maxDifference) + " s");
 
   TumToRawlogSummary sum;
-  const size_t n = opts.maxFrames ? std::min(opts.maxFrames, seq.frames().size())
-                                  : seq.frames().size();
+  const size_t n =
+      opts.maxFrames ? std::min(opts.maxFrames, seq.frames().size()) : seq.frames().size();
   sum.rgbUnpaired = seq.rgbCount() - seq.frames().size();
   sum.depthUnpaired = seq.depthCount() - seq.frames().size();
   sum.firstStamp = seq.frames().front().rgbStamp;
@@ -95,8 +94,8 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
 
   // Ground truth goes first: if it fails, the rawlog has not been replaced yet.
   if (seq.hasGroundTruth()) {
-    sum.groundTruthPath =
-        opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath) : opts.groundTruthPath;
+    sum.groundTruthPath = opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath)
+                                                       : opts.groundTruthPath;
     writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(),
                        "ground truth of " + opts.sequenceFolder + " (optical frame, TUM format)");
     sum.groundTruthPoses = seq.groundTruth().size();

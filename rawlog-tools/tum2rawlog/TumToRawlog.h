@@ -13,7 +13,7 @@ struct TumToRawlogOptions {
   std::string rawlogPath;
   std::string groundTruthPath;  ///< empty: "<rawlog without extension>_groundtruth.txt"
   RgbdCameraCalibration calibration;
-  bool externalImages = false;         ///< images in "<name>_Images/" beside the rawlog
+  bool externalImages = false;           ///< images in "<name>_Images/" beside the rawlog
   bool groundTruthObservations = false;  ///< also a CObservationRobotPose per frame
   double maxDifference = 0.02;
   size_t maxFrames = 0;  ///< 0 = all

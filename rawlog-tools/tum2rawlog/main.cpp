@@ -28,23 +28,28 @@ int main(int argc, char** argv) {
         "factor 5000)",
         false, "", "CAMERA.ini", cmd);
     TCLAP::ValueArg<std::string> argGt(
-        "g", "gt", "where to write the ground truth (default: OUT without .rawlog + "
-        "_groundtruth.txt)", false, "", "GT.txt", cmd);
+        "g", "gt",
+        "where to write the ground truth (default: OUT without .rawlog + "
+        "_groundtruth.txt)",
+        false, "", "GT.txt", cmd);
     TCLAP::SwitchArg argExternal(
         "e", "external-images",
         "store images in <OUT name>_Images/ beside the rawlog instead of inside it (colour files "
-        "copied unchanged, depth as MRPT external matrices)", cmd);
+        "copied unchanged, depth as MRPT external matrices)",
+        cmd);
     TCLAP::SwitchArg argGtObs(
         "", "gt-observations",
         "also write a CObservationRobotPose 'GROUND_TRUTH' (sensor frame) after each frame that "
-        "has a ground-truth pose within max-dt", cmd);
+        "has a ground-truth pose within max-dt",
+        cmd);
     TCLAP::ValueArg<double> argMaxDt("", "max-dt",
                                      "maximum colour/depth stamp difference in seconds (0.02)",
                                      false, 0.02, "SECONDS", cmd);
     TCLAP::ValueArg<size_t> argMaxFrames("", "max-frames", "convert at most N frames (0 = all)",
                                          false, 0, "N", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
-    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "tum2rawlog")) return *exitCode;
+    if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "tum2rawlog"))
+      return *exitCode;
 
     slamdunk::TumToRawlogOptions opts;
     opts.sequenceFolder = argSeq.getValue();
@@ -78,7 +83,8 @@ int main(int argc, char** argv) {
     std::printf("tum2rawlog summary\n");
     std::printf("  input:            %s\n", opts.sequenceFolder.c_str());
     std::printf("  rawlog:           %s\n", opts.rawlogPath.c_str());
-    if (!sum.imagesFolder.empty()) std::printf("  images folder:    %s\n", sum.imagesFolder.c_str());
+    if (!sum.imagesFolder.empty())
+      std::printf("  images folder:    %s\n", sum.imagesFolder.c_str());
     std::printf("  frames:           %zu\n", sum.frames);
     std::printf("  pairs dropped:    %zu colour and %zu depth images without a partner\n",
                 sum.rgbUnpaired, sum.depthUnpaired);

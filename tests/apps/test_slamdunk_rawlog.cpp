@@ -37,9 +37,9 @@ std::string groundTruthOf(const std::string& rawlog) {
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
 }
 
-#define REQUIRE_RAWLOG(var, name)                                                      \
-  const std::string var = testRawlog(name);                                            \
-  if (var.empty())                                                                     \
+#define REQUIRE_RAWLOG(var, name)                                                           \
+  const std::string var = testRawlog(name);                                                 \
+  if (var.empty())                                                                          \
   GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
                << test::dataDir() << ")"
 
@@ -57,7 +57,7 @@ struct SlamRun {
 };
 
 SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std::string& extra = "",
-            bool withGt = true) {
+                bool withGt = true) {
   SlamRun r;
   r.trajectory = outDir + "/trajectory.txt";
   std::string cmd = test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
@@ -86,8 +86,8 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
 
-  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoop_NoOpt"),
-                            "--no-optimization");
+  const SlamRun track =
+      runSlam(rawlog, test::scratchDir("Slam_SyntheticLoop_NoOpt"), "--no-optimization");
   ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
       << "local optimization did not improve on tracking alone:\n"
@@ -111,7 +111,7 @@ TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   EXPECT_LE(opt.value("ate_rmse_m"), 0.045) << opt.result.output;
 
   const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_7Scenes_NoOpt"),
-                            "--config " + q(config) + " --no-optimization");
+                                "--config " + q(config) + " --no-optimization");
   ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
   EXPECT_EQ(track.value("tracked"), 1000) << track.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
@@ -186,10 +186,11 @@ TEST(SlamdunkRawlogBadInput, ZeroDepthAndBlackFramesAreLostNotTracked) {
   const std::string rawlog = dir + "/damaged.rawlog";
   std::vector<double> damagedStamps;
   writeEdited(src, rawlog, 30, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
-    if ((i >= 10 && i < 15) || i == 20 || i == 22) damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
-    if (i >= 10 && i < 15) o.rangeImage.fill(0);                       // all-zero depth
+    if ((i >= 10 && i < 15) || i == 20 || i == 22)
+      damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
+    if (i >= 10 && i < 15) o.rangeImage.fill(0);                           // all-zero depth
     if (i == 20) o.intensityImage.asCvMatRef().setTo(cv::Scalar::all(0));  // black frame
-    if (i == 22) o.rangeImage_setSize(240, 320);                        // wrong depth size
+    if (i == 22) o.rangeImage_setSize(240, 320);                           // wrong depth size
   });
   const SlamRun r = runSlam(rawlog, dir, "", false);
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
@@ -275,8 +276,8 @@ TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
 
   const std::string real = testRawlog("7scenes");
   if (real.empty()) return;
-  const SlamRun s = runSlam(real, test::scratchDir("SlamThreads7"),
-                            "--config " + q(dir + "/threaded.ini"));
+  const SlamRun s =
+      runSlam(real, test::scratchDir("SlamThreads7"), "--config " + q(dir + "/threaded.ini"));
   ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
   EXPECT_EQ(s.value("tracked"), 1000) << s.result.output;
   EXPECT_LE(s.value("ate_rmse_m"), 0.045) << s.result.output;
@@ -320,8 +321,8 @@ RelocalizationFigures mapThenRelocalize(const std::string& rawlog, const std::st
   EXPECT_TRUE(fs::exists(map));
   const std::string second = dir + "/second";
   fs::create_directories(second);
-  const SlamRun r = runSlam(rawlog, second,
-                            "--first-frame " + std::to_string(half) + " --load-map " + q(map));
+  const SlamRun r =
+      runSlam(rawlog, second, "--first-frame " + std::to_string(half) + " --load-map " + q(map));
   EXPECT_EQ(r.result.exitCode, 0) << r.result.output;
   f.firstTracked = r.value("first_tracked_frame");
   f.tracked = r.value("tracked");
@@ -347,8 +348,8 @@ TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
   const auto f = mapThenRelocalize(rawlog, test::scratchDir("SlamMaps_Reloc7"), 500);
   std::cout << "7-Scenes: relocalized at frame " << f.firstTracked << " of the second half, "
-            << f.tracked << " tracked, RMSE in the saved map's frame " << f.rmseInMap
-            << " m (max " << f.maxInMap << ")\n";
+            << f.tracked << " tracked, RMSE in the saved map's frame " << f.rmseInMap << " m (max "
+            << f.maxInMap << ")\n";
   EXPECT_GE(f.firstTracked, 0);
   EXPECT_LT(f.firstTracked, 10);
   EXPECT_EQ(f.tracked, 500);
@@ -358,18 +359,17 @@ TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
 TEST(SlamdunkRawlogMaps, WritesMapDenseOutputsPictureAndSimpleMap) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("SlamMaps_Outputs");
-  const SlamRun r = runSlam(rawlog, dir,
-                            "--save-map " + q(dir + "/m.map") + " --dense " + q(dir + "/dense") +
-                                " --render " + q(dir + "/m.png") + " --simplemap " +
-                                q(dir + "/m.simplemap"));
+  const SlamRun r =
+      runSlam(rawlog, dir,
+              "--save-map " + q(dir + "/m.map") + " --dense " + q(dir + "/dense") + " --render " +
+                  q(dir + "/m.png") + " --simplemap " + q(dir + "/m.simplemap"));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   for (const char* f : {"m.map", "dense.ply", "dense.pcd", "dense.ot", "dense.bt", "m.png",
                         "m.3Dscene", "m.simplemap"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
   // The saved map renders through the stand-alone renderer too.
-  const auto render = test::runCommand(test::toolPath("slamdunk-render") + " " +
-                                       q(dir + "/m.map") + " " + q(dir + "/again.png") +
-                                       " --width 320 --height 240");
+  const auto render = test::runCommand(test::toolPath("slamdunk-render") + " " + q(dir + "/m.map") +
+                                       " " + q(dir + "/again.png") + " --width 320 --height 240");
   EXPECT_EQ(render.exitCode, 0) << render.output;
   const cv::Mat png = cv::imread(dir + "/again.png");
   EXPECT_EQ(png.cols, 320);

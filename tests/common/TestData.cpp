@@ -1,10 +1,10 @@
 #include "TestData.h"
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 

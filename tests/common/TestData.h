@@ -27,8 +27,8 @@ CommandResult runCommand(const std::string& commandLine);
 }  // namespace slamdunk::test
 
 /// Skips the current test with a clear message when a dataset folder/file is missing.
-#define SLAMDUNK_REQUIRE_DATA(var, relative)                                                  \
-  const std::string var = ::slamdunk::test::dataPath(relative);                              \
-  if (var.empty())                                                                           \
+#define SLAMDUNK_REQUIRE_DATA(var, relative)                                                       \
+  const std::string var = ::slamdunk::test::dataPath(relative);                                    \
+  if (var.empty())                                                                                 \
   GTEST_SKIP() << "test data '" << relative << "' not found under " << ::slamdunk::test::dataDir() \
                << " (set SLAMDUNK_DATA_DIR to the shared data folder)"

@@ -38,9 +38,9 @@ TEST(Pose, QuaternionIsNormalisedAndBadValuesRejected) {
   EXPECT_THROW(poseFromTranslationQuaternion(0, 0, 0, 0, 0, 0, 0), std::invalid_argument);
   EXPECT_THROW(poseFromTranslationQuaternion(std::nan(""), 0, 0, 0, 0, 0, 1),
                std::invalid_argument);
-  EXPECT_THROW(poseFromTranslationQuaternion(0, 0, 0, 0, 0, 0,
-                                             std::numeric_limits<double>::infinity()),
-               std::invalid_argument);
+  EXPECT_THROW(
+      poseFromTranslationQuaternion(0, 0, 0, 0, 0, 0, std::numeric_limits<double>::infinity()),
+      std::invalid_argument);
   Pose bad = Pose::Identity();
   bad.translation().x() = std::nan("");
   EXPECT_FALSE(isValidPose(bad));

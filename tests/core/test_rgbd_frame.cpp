@@ -47,8 +47,8 @@ TEST(RgbdFrame, FromObservationConvertsDepthAndGrey) {
   ASSERT_EQ(f.depth().type(), CV_32FC1);
   EXPECT_EQ(f.grey().cols, 64);
   EXPECT_FLOAT_EQ(f.depth().at<float>(3, 10), (5000 + 100) * (1.0f / 5000));
-  EXPECT_EQ(f.depthAt(0, 0), 0.f);     // invalid pixel
-  EXPECT_EQ(f.depthAt(-1, 5), 0.f);    // outside
+  EXPECT_EQ(f.depthAt(0, 0), 0.f);   // invalid pixel
+  EXPECT_EQ(f.depthAt(-1, 5), 0.f);  // outside
   EXPECT_FALSE(f.backProject(0, 0));
   const auto p = f.backProject(32 + 20, 24);  // one focal length right of the centre
   ASSERT_TRUE(p);

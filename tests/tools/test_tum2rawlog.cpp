@@ -142,9 +142,9 @@ TEST(Tum2Rawlog, SevenScenesOpensInRawlogEdit) {
   if (test::runCommand("command -v rawlog-edit").exitCode != 0)
     GTEST_SKIP() << "rawlog-edit (package mrpt-apps) not installed";
   const std::string dir = test::scratchDir("Tum2Rawlog_RawlogEdit");
-  auto r = test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " + dir +
-                            "/7s.rawlog --external-images -q --camera " +
-                            quote(cameraFor("7scenes")));
+  auto r =
+      test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " + dir +
+                       "/7s.rawlog --external-images -q --camera " + quote(cameraFor("7scenes")));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   // rawlog-edit finds external images only from the rawlog's folder with a bare name.
   r = test::runCommand("cd " + quote(dir) + " && rawlog-edit -i 7s.rawlog --info");

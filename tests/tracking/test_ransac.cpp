@@ -52,7 +52,7 @@ TEST(Ransac, RecoversPoseWithHalfOutliers) {
   EXPECT_LT(rotationDistance(r.transform, T), 0.002);
   size_t wrong = 0;
   for (size_t i = 0; i < p.src.size(); ++i) wrong += r.inliers[i] == p.outlier[i];
-  EXPECT_LT(wrong, 10u);  // a few random outliers can land within the threshold
+  EXPECT_LT(wrong, 10u);         // a few random outliers can land within the threshold
   EXPECT_LT(r.iterations, 200);  // adaptive: about 35 expected for w = 0.5, p = 0.99
 }
 

@@ -12,8 +12,8 @@ TEST(TrackerOptions, DefaultIniHasTable3Values) {
   mrpt::config::CConfigFile cfg(test::sourceDir() + "/config-ini/slamdunk-default.ini");
   TrackerOptions o;
   o.loadFromConfigFile(cfg, "tracker");
-  EXPECT_DOUBLE_EQ(o.windowSize, 5.0);   // W
-  EXPECT_DOUBLE_EQ(o.windowShift, 0.25); // T = 5% W
+  EXPECT_DOUBLE_EQ(o.windowSize, 5.0);    // W
+  EXPECT_DOUBLE_EQ(o.windowShift, 0.25);  // T = 5% W
   EXPECT_DOUBLE_EQ(o.ratioThreshold, 0.8);
   EXPECT_EQ(o.keyframes.gridCols, 4);
   EXPECT_EQ(o.keyframes.gridRows, 4);

@@ -39,8 +39,7 @@ AtomicOutput::~AtomicOutput() {
 
 void AtomicOutput::commit() {
   std::error_code ec;
-  if (!fs::exists(temp_, ec))
-    throw std::runtime_error("nothing was written for '" + target_ + "'");
+  if (!fs::exists(temp_, ec)) throw std::runtime_error("nothing was written for '" + target_ + "'");
   fs::rename(temp_, target_, ec);
   if (ec) throw std::runtime_error("cannot write '" + target_ + "': " + ec.message());
   committed_ = true;

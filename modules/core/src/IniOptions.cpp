@@ -74,8 +74,7 @@ bool IniSectionReader::readBool(const std::string& key, bool defaultValue) {
                               "' is not a boolean (true/false)");
 }
 
-std::string IniSectionReader::readString(const std::string& key,
-                                         const std::string& defaultValue) {
+std::string IniSectionReader::readString(const std::string& key, const std::string& defaultValue) {
   bool found;
   const std::string v = rawValue(key, found);
   return found ? v : defaultValue;

@@ -7,8 +7,8 @@
 
 namespace slamdunk {
 
-Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy,
-                                   double qz, double qw) {
+Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy, double qz,
+                                   double qw) {
   for (double v : {tx, ty, tz, qx, qy, qz, qw})
     if (!std::isfinite(v)) throw std::invalid_argument("pose has a NaN or infinite value");
   Eigen::Quaterniond q(qw, qx, qy, qz);
@@ -40,8 +40,8 @@ Pose fromCPose3D(const mrpt::poses::CPose3D& p) {
 
 const Pose& opticalInSensor() {
   // MRPT's sensor frame is x forward, y left, z up; the optical frame x right, y down, z forward.
-  static const Pose T = fromCPose3D(
-      mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0)));
+  static const Pose T =
+      fromCPose3D(mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0)));
   return T;
 }
 

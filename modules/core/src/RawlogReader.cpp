@@ -29,8 +29,9 @@ RawlogReader::RawlogReader(const std::string& path) : impl_(std::make_unique<Imp
   if (!fs::exists(path)) throw std::runtime_error("rawlog '" + path + "' does not exist");
   if (fs::is_directory(path)) throw std::runtime_error("rawlog '" + path + "' is a folder");
   if (!impl_->file.open(path)) throw std::runtime_error("cannot open rawlog '" + path + "'");
-  impl_->archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<
-      mrpt::io::CFileGZInputStream>>(impl_->file);
+  impl_->archive =
+      std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
+          impl_->file);
   // Externally stored images are named relative to this folder (process-global in MRPT).
   mrpt::io::setLazyLoadPathBase(imagesDirectoryFor(path));
 }

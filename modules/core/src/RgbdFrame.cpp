@@ -3,8 +3,8 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/system/datetime.h>
 
-#include <opencv2/imgproc.hpp>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace slamdunk {
@@ -26,8 +26,8 @@ RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
 }
 
 RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
-  const std::string what = "observation '" + obs.sensorLabel + "' at t=" +
-                           std::to_string(mrpt::Clock::toDouble(obs.timestamp));
+  const std::string what = "observation '" + obs.sensorLabel +
+                           "' at t=" + std::to_string(mrpt::Clock::toDouble(obs.timestamp));
   obs.load();  // externally stored images
   if (!obs.hasIntensityImage || obs.intensityImage.isEmpty())
     throw std::runtime_error(what + " has no colour (intensity) image");

@@ -85,7 +85,8 @@ std::vector<ListEntry> readImageList(const fs::path& listPath) {
 
 TumSequence::TumSequence(const std::string& folder, double maxDifference) : folder_(folder) {
   const fs::path dir(folder);
-  if (!fs::is_directory(dir)) throw std::runtime_error("sequence folder '" + folder + "' not found");
+  if (!fs::is_directory(dir))
+    throw std::runtime_error("sequence folder '" + folder + "' not found");
   const auto rgb = readImageList(dir / "rgb.txt");
   const auto depth = readImageList(dir / "depth.txt");
   rgbCount_ = rgb.size();
@@ -110,7 +111,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
     size_t i, const RgbdCameraCalibration& calib) const {
   const TumFrameEntry& f = frames_.at(i);
   const auto& K = calib.intrinsics;
-  if (!fs::exists(f.rgbFile)) throw std::runtime_error("colour image '" + f.rgbFile + "' is missing");
+  if (!fs::exists(f.rgbFile))
+    throw std::runtime_error("colour image '" + f.rgbFile + "' is missing");
   if (!fs::exists(f.depthFile))
     throw std::runtime_error("depth image '" + f.depthFile + "' is missing");
 
@@ -136,10 +138,9 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
                              std::to_string(depth.elemSize1() * 8) + "-bit, " +
                              std::to_string(depth.channels()) + " channel(s))");
   if (depth.cols != K.width || depth.rows != K.height)
-    throw std::runtime_error("depth image '" + f.depthFile + "' is " +
-                             std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                             ", expected " + std::to_string(K.width) + "x" +
-                             std::to_string(K.height));
+    throw std::runtime_error("depth image '" + f.depthFile + "' is " + std::to_string(depth.cols) +
+                             "x" + std::to_string(depth.rows) + ", expected " +
+                             std::to_string(K.width) + "x" + std::to_string(K.height));
   obs->hasRangeImage = true;
   obs->range_is_depth = true;
   obs->rangeImage_setSize(depth.rows, depth.cols);

@@ -166,9 +166,10 @@ BundleAdjustmentResult BundleAdjuster::solveMatchForm(const LocalProblem& p) con
   for (const KeyframeEdge& e : p.edges) {
     for (const PointMatch& m : e.matches) {
       ceres::LossFunction* loss = rho_ ? &losses.emplace_back(rho_.get(), m.weight) : nullptr;
-      problem.AddResidualBlock(PointMatchResidual::create(m.pointI, m.pointJ, m.weight, m.information), loss,
-                               params.quaternion(e.i), params.translation(e.i),
-                               params.quaternion(e.j), params.translation(e.j));
+      problem.AddResidualBlock(
+          PointMatchResidual::create(m.pointI, m.pointJ, m.weight, m.information), loss,
+          params.quaternion(e.i), params.translation(e.i), params.quaternion(e.j),
+          params.translation(e.j));
     }
   }
   ceres::Solver::Summary summary;

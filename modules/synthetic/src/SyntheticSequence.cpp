@@ -12,7 +12,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-
 #include <chrono>
 #include <cmath>
 #include <filesystem>

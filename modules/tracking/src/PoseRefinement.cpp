@@ -18,7 +18,8 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 cv::Mat subsampleDepth(const cv::Mat& depth, int stride) {
   cv::Mat out((depth.rows + stride - 1) / stride, (depth.cols + stride - 1) / stride, CV_32F);
   for (int r = 0; r < out.rows; ++r)
-    for (int c = 0; c < out.cols; ++c) out.at<float>(r, c) = depth.at<float>(r * stride, c * stride);
+    for (int c = 0; c < out.cols; ++c)
+      out.at<float>(r, c) = depth.at<float>(r * stride, c * stride);
   return out;
 }
 
@@ -53,7 +54,7 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
     return true;
   };
   for (const Eigen::Vector3d& pc : d.framePoints) {
-    const Eigen::Vector3d x = T * pc;      // world
+    const Eigen::Vector3d x = T * pc;            // world
     const Eigen::Vector3d q = refFromWorld * x;  // reference camera frame
     if (q.z() <= 0.1) continue;
     const Eigen::Vector2d uv = K.project(q);

@@ -64,8 +64,7 @@ void QuadTree::insert(double x, double y, uint32_t id) {
         return;
       }
       n->split();
-      for (const Item& it : n->items)
-        n->children[n->quadrant(it.x, it.y)]->items.push_back(it);
+      for (const Item& it : n->items) n->children[n->quadrant(it.x, it.y)]->items.push_back(it);
       n->items.clear();
     }
     n = n->children[n->quadrant(x, y)].get();

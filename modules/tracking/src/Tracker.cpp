@@ -13,18 +13,19 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 /// Ground-parallel coordinates: x and z of the world (= first camera's optical frame, y down).
-Eigen::Vector2d groundPosition(const Pose& p) {
-  return {p.translation().x(), p.translation().z()};
-}
+Eigen::Vector2d groundPosition(const Pose& p) { return {p.translation().x(), p.translation().z()}; }
 const DepthNoiseModel kNoise;
 double depthNoiseVariance(double z) { return kNoise.variance(z); }
 }  // namespace
 
 const char* toString(TrackingStatus s) {
   switch (s) {
-    case TrackingStatus::Initialized: return "initialized";
-    case TrackingStatus::Tracked: return "tracked";
-    case TrackingStatus::Lost: return "lost";
+    case TrackingStatus::Initialized:
+      return "initialized";
+    case TrackingStatus::Tracked:
+      return "tracked";
+    case TrackingStatus::Lost:
+      return "lost";
   }
   return "?";
 }
@@ -71,8 +72,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   };
   if (static_cast<int>(features.size()) < options_.minFeatures)
     return lostBecause("only " + std::to_string(features.size()) +
-                       " features with valid depth (need " +
-                       std::to_string(options_.minFeatures) + ")");
+                       " features with valid depth (need " + std::to_string(options_.minFeatures) +
+                       ")");
 
   if (graph_->keyframeCount() == 0) {
     r = initialize(frame, std::move(features), r);
@@ -92,10 +93,10 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   std::vector<PoolMatch> inlierMatches;
   Pose pose;
   const bool startingFromMap = lost_ && framesLost_ == 0;  // a loaded map, nothing tracked yet
-  bool registered = !startingFromMap && registerFrame(pool_, frame, features, r, inlierMatches, pose);
-  if (!registered &&
-      (startingFromMap ||
-       (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
+  bool registered =
+      !startingFromMap && registerFrame(pool_, frame, features, r, inlierMatches, pose);
+  if (!registered && (startingFromMap ||
+                      (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
     registered = relocalize(frame, features, r, inlierMatches, pose);
   if (!registered) return lostBecause(r.lostReason);
   r.pose = pose;
@@ -169,8 +170,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
     const PoolFeature& f = pool.feature(m.pool);
     src.push_back(features.points[m.query]);
     dst.push_back(f.pointWorld);
-    weights.push_back(1.0 / (depthNoiseVariance(src.back().z()) +
-                             depthNoiseVariance(f.pointKeyframe.z())));
+    weights.push_back(
+        1.0 / (depthNoiseVariance(src.back().z()) + depthNoiseVariance(f.pointKeyframe.z())));
   }
   const RansacResult ransac = ransacAbsoluteOrientation(
       src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
@@ -194,8 +195,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   r.timings.ransac += msSince(t);
   if (!lost_ && options_.maxTranslationJump > 0 &&
       translationDistance(pose, lastPose_) > options_.maxTranslationJump) {
-    r.lostReason = "implausible jump of " + std::to_string(translationDistance(pose, lastPose_)) +
-                   " m";
+    r.lostReason =
+        "implausible jump of " + std::to_string(translationDistance(pose, lastPose_)) + " m";
     return false;
   }
   r.inliers = ransac.inlierCount;
@@ -206,9 +207,9 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
 }
 
 std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
-                                                       const FeaturePool& pool,
-                                                       const std::vector<PoolMatch>& matches,
-                                                       const std::vector<bool>& inliers) const {
+                                                        const FeaturePool& pool,
+                                                        const std::vector<PoolMatch>& matches,
+                                                        const std::vector<bool>& inliers) const {
   if (options_.depthAlignmentWeight <= 0) return std::nullopt;
   std::map<KeyframeId, size_t> count;
   for (size_t i = 0; i < matches.size(); ++i)

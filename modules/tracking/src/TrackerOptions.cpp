@@ -15,9 +15,12 @@ EdgeInformation edgeInformationFromString(const std::string& name) {
 
 std::string toString(EdgeInformation e) {
   switch (e) {
-    case EdgeInformation::Paper: return "paper";
-    case EdgeInformation::Isotropic: return "isotropic";
-    case EdgeInformation::Anisotropic: return "anisotropic";
+    case EdgeInformation::Paper:
+      return "paper";
+    case EdgeInformation::Isotropic:
+      return "isotropic";
+    case EdgeInformation::Anisotropic:
+      return "anisotropic";
   }
   return "?";
 }

@@ -1,5 +1,6 @@
 #pragma once
-// Pinhole camera with OpenCV-order distortion (k1 k2 p1 p2 k3), the colour camera of an RGB-D sensor.
+// Pinhole camera with OpenCV-order distortion (k1 k2 p1 p2 k3), the colour camera of an RGB-D
+// sensor.
 
 #include <Eigen/Core>
 #include <array>

@@ -15,8 +15,8 @@ using Pose = Eigen::Isometry3d;
 
 /// Pose from translation and a quaternion (x, y, z, w order as in TUM files); normalises the
 /// quaternion and throws std::invalid_argument on NaN/inf values or a zero-norm quaternion.
-Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy,
-                                   double qz, double qw);
+Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy, double qz,
+                                   double qw);
 
 mrpt::poses::CPose3D toCPose3D(const Pose& p);
 Pose fromCPose3D(const mrpt::poses::CPose3D& p);

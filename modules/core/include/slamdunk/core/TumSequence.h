@@ -50,8 +50,8 @@ class TumSequence {
   /// Loads frame i as an observation (timestamp = colour stamp, raw 16-bit depth copied with
   /// rangeUnits = 1/depthFactor). Throws naming the image on a missing or unreadable file, a
   /// depth PNG that is not 16-bit single channel, or a size that differs from the calibration.
-  mrpt::obs::CObservation3DRangeScan::Ptr loadObservation(
-      size_t i, const RgbdCameraCalibration& calib) const;
+  mrpt::obs::CObservation3DRangeScan::Ptr loadObservation(size_t i,
+                                                          const RgbdCameraCalibration& calib) const;
 
  private:
   std::string folder_;

@@ -21,19 +21,19 @@ std::string toString(FeatureType type);
 
 struct FeatureOptions : public mrpt::config::CLoadableOptions {
   FeatureType type = FeatureType::SURF64;
-  int maxFeatures = 500;               ///< cap on features with valid depth per frame
-  double surfHessianThreshold = 500;   ///< SURF detector threshold
-  bool surfUpright = true;             ///< skip SURF orientation (hand-held cameras stay level)
+  int maxFeatures = 500;              ///< cap on features with valid depth per frame
+  double surfHessianThreshold = 500;  ///< SURF detector threshold
+  bool surfUpright = true;            ///< skip SURF orientation (hand-held cameras stay level)
   int surfOctaves = 4;
-  int orbDetectFeatures = 1000;        ///< ORB detects this many before the depth filter
+  int orbDetectFeatures = 1000;  ///< ORB detects this many before the depth filter
   int orbFastThreshold = 20;
-  int siftDetectFeatures = 0;          ///< 0 = all
-  double minDepth = 0.2;               ///< metres: nearer points are sensor noise
-  double maxDepth = 6.0;               ///< metres: farther Kinect depth is too noisy to use
+  int siftDetectFeatures = 0;  ///< 0 = all
+  double minDepth = 0.2;       ///< metres: nearer points are sensor noise
+  double maxDepth = 6.0;       ///< metres: farther Kinect depth is too noisy to use
   /// Reject a keypoint when depths within `depthCheckRadius` pixels differ from its own by more
   /// than this fraction: on a depth edge a pixel of misregistration picks the wrong surface.
   double maxDepthDiscontinuity = 0.05;
-  int depthCheckRadius = 2;            ///< 0 disables the check
+  int depthCheckRadius = 2;  ///< 0 disables the check
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

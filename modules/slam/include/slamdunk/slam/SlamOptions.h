@@ -16,9 +16,9 @@ struct SlamOptions : public mrpt::config::CLoadableOptions {
   FeatureOptions features;
   TrackerOptions tracker;
   LocalOptimizerOptions optimizer;
-  bool localOptimization = true;   ///< run the relative BA when a keyframe is created
-  bool optimizerThread = false;    ///< run it beside tracking (live use) instead of inline
-  bool globalPassAtEnd = false;    ///< one optimization over the whole graph at the end
+  bool localOptimization = true;  ///< run the relative BA when a keyframe is created
+  bool optimizerThread = false;   ///< run it beside tracking (live use) instead of inline
+  bool globalPassAtEnd = false;   ///< one optimization over the whole graph at the end
 
   /// Reads the sections of a pipeline INI; sections absent keep their defaults.
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

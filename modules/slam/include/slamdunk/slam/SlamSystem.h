@@ -33,13 +33,12 @@ struct SlamStatistics {
   std::vector<double> optimizationMs;      ///< one per local optimization
   double maxOptimizationTranslation = 0;   ///< metres: largest pose change by any optimization
   double maxOptimizationRotationDeg = 0;
-  std::vector<std::string> lostReasons;    ///< distinct reasons, first occurrence order
+  std::vector<std::string> lostReasons;  ///< distinct reasons, first occurrence order
 };
 
 class SlamSystem {
  public:
-  explicit SlamSystem(const SlamOptions& options,
-                      std::shared_ptr<KeyframeGraph> graph = nullptr);
+  explicit SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph> graph = nullptr);
   ~SlamSystem();  ///< stops the optimizer thread
   SlamSystem(const SlamSystem&) = delete;
   SlamSystem& operator=(const SlamSystem&) = delete;

@@ -8,8 +8,8 @@
 namespace slamdunk {
 
 struct DepthNoiseModel {
-  double pixelSigma = 1.0;        ///< keypoint localisation, pixels
-  double focalLength = 525.0;     ///< pixels
+  double pixelSigma = 1.0;              ///< keypoint localisation, pixels
+  double focalLength = 525.0;           ///< pixels
   double depthSigmaQuadratic = 0.0015;  ///< σ_z = a z² (+ the lateral term)
 
   double lateralSigma(double z) const { return pixelSigma * z / focalLength; }

@@ -16,14 +16,14 @@ class Index;
 namespace slamdunk {
 
 struct FeaturePoolOptions {
-  int kdTrees = 4;           ///< randomized KD-trees (float descriptors)
-  int checks = 16;           ///< leaves visited per search
-  int neighbours = 4;        ///< k of the k-NN search used by the ratio test
-  int searchThreads = 2;     ///< the only parallel block of tracking, as in the paper
-  bool frustumFilter = true; ///< keep only features visible from the window centre
-  double frustumFar = 8.0;   ///< metres
-  double frustumMargin = 0.1;///< fraction of the image size added around the frustum
-  uint32_t seed = 7;         ///< KD-tree randomisation: same seed, same index, same matches
+  int kdTrees = 4;             ///< randomized KD-trees (float descriptors)
+  int checks = 16;             ///< leaves visited per search
+  int neighbours = 4;          ///< k of the k-NN search used by the ratio test
+  int searchThreads = 2;       ///< the only parallel block of tracking, as in the paper
+  bool frustumFilter = true;   ///< keep only features visible from the window centre
+  double frustumFar = 8.0;     ///< metres
+  double frustumMargin = 0.1;  ///< fraction of the image size added around the frustum
+  uint32_t seed = 7;           ///< KD-tree randomisation: same seed, same index, same matches
 };
 
 struct PoolFeature {
@@ -49,8 +49,8 @@ class FeaturePool {
 
   /// Gathers the features of `active` keyframes that lie in the frustum of a camera with
   /// intrinsics K at `center` (world pose of the optical frame) and indexes them.
-  void build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active,
-             const Pose& center, const CameraIntrinsics& K);
+  void build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active, const Pose& center,
+             const CameraIntrinsics& K);
   /// Matches each query descriptor; keeps matches with θ' < ratioThreshold.
   std::vector<PoolMatch> match(const cv::Mat& queryDescriptors, double ratioThreshold) const;
 

@@ -9,10 +9,10 @@
 namespace slamdunk {
 
 struct KeyframePolicyOptions {
-  int gridCols = 4;             ///< N
-  int gridRows = 4;             ///< M
-  int minInliersPerCell = 1;    ///< F: a cell counts when it holds more than F inliers
-  double minOverlap = 0.8;      ///< τ
+  int gridCols = 4;           ///< N
+  int gridRows = 4;           ///< M
+  int minInliersPerCell = 1;  ///< F: a cell counts when it holds more than F inliers
+  double minOverlap = 0.8;    ///< τ
   /// Count only cells where the frame itself has more than F features: a textureless part of
   /// the view (a white wall) can never overlap and would otherwise force a keyframe per frame.
   bool onlyTexturedCells = true;

@@ -14,10 +14,10 @@
 namespace slamdunk {
 
 struct PosePair {
-  Eigen::Vector3d source;        ///< in the camera being posed
-  Eigen::Vector3d target;        ///< in the world
-  Eigen::Matrix3d sourceCov;     ///< in the camera's frame
-  Eigen::Matrix3d targetCov;     ///< in the world frame
+  Eigen::Vector3d source;     ///< in the camera being posed
+  Eigen::Vector3d target;     ///< in the world
+  Eigen::Matrix3d sourceCov;  ///< in the camera's frame
+  Eigen::Matrix3d targetCov;  ///< in the world frame
 };
 
 struct PoseRefinementOptions {

@@ -11,9 +11,9 @@
 namespace slamdunk {
 
 struct RansacOptions {
-  double inlierThreshold = 0.03;   ///< metres, at zero depth
-  double depthCoefficient = 0.005; ///< threshold grows by this × z² (Kinect noise ~ z²)
-  double confidence = 0.99;        ///< p: stop when an all-inlier sample was likely drawn
+  double inlierThreshold = 0.03;    ///< metres, at zero depth
+  double depthCoefficient = 0.005;  ///< threshold grows by this × z² (Kinect noise ~ z²)
+  double confidence = 0.99;         ///< p: stop when an all-inlier sample was likely drawn
   int maxIterations = 1000;
   int minInliers = 12;
   uint32_t seed = 42;

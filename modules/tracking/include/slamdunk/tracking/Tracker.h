@@ -34,13 +34,13 @@ struct StageTimings {
 struct TrackingResult {
   TrackingStatus status = TrackingStatus::Lost;
   double timestamp = 0;
-  Pose pose = Pose::Identity();  ///< T_world_frame; the last good pose when lost
-  KeyframeId reference = 0;      ///< reference keyframe (not meaningful when lost)
+  Pose pose = Pose::Identity();             ///< T_world_frame; the last good pose when lost
+  KeyframeId reference = 0;                 ///< reference keyframe (not meaningful when lost)
   Pose poseInReference = Pose::Identity();  ///< T_reference_frame
   bool newKeyframe = false;
-  bool loopClosure = false;  ///< the new keyframe was promoted by the metric-loop test
-  bool relocalized = false;  ///< registered against the whole map after being lost
-  KeyframeId keyframeId = 0; ///< id of the new keyframe, if any
+  bool loopClosure = false;   ///< the new keyframe was promoted by the metric-loop test
+  bool relocalized = false;   ///< registered against the whole map after being lost
+  KeyframeId keyframeId = 0;  ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;
   size_t poolSize = 0;  ///< features in the pool this frame was matched against
   double overlap = 0;
@@ -92,8 +92,8 @@ class Tracker {
   QuadTree quadTree_;
   std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
   FeaturePool pool_;
-  FeaturePool globalPool_;           ///< every keyframe, for relocalization
-  size_t globalPoolKeyframes_ = 0;   ///< keyframe count when globalPool_ was built
+  FeaturePool globalPool_;          ///< every keyframe, for relocalization
+  size_t globalPoolKeyframes_ = 0;  ///< keyframe count when globalPool_ was built
   size_t framesLost_ = 0;
   Pose windowCenter_ = Pose::Identity();
   Pose lastPose_ = Pose::Identity();

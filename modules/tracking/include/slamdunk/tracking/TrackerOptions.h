@@ -16,25 +16,25 @@ EdgeInformation edgeInformationFromString(const std::string& name);
 std::string toString(EdgeInformation e);
 
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
-  double windowSize = 5.0;     ///< W: side of the active window square, metres
-  double windowShift = 0.25;   ///< T: move the window when the camera is this far from its centre
-  double ratioThreshold = 0.8; ///< θ: multi-view ratio test
-  int loopHopThreshold = 3;    ///< matched keyframes farther apart than this (R) close a loop
-  int loopMinInliers = 10;     ///< a keyframe "matches" the frame with at least this many inliers
-  int edgeMinMatches = 5;      ///< fewer inlier matches with a keyframe make no graph edge
-  int minFeatures = 20;        ///< fewer features with depth: the frame cannot be tracked
-  int relocalizeAfter = 1;     ///< lost frames before the whole map is searched as well
-  int relocalizeMinInliers = 20;  ///< stricter than min_inliers: the whole map can alias
-  double maxTranslationJump = 0.5; ///< metres between consecutive tracked frames (not when lost)
-  bool keepKeyframeImages = false; ///< store colour+depth in keyframes for dense outputs
-  bool weightedRefit = true;       ///< final pose fit weighs pairs by their depth noise
+  double windowSize = 5.0;      ///< W: side of the active window square, metres
+  double windowShift = 0.25;    ///< T: move the window when the camera is this far from its centre
+  double ratioThreshold = 0.8;  ///< θ: multi-view ratio test
+  int loopHopThreshold = 3;     ///< matched keyframes farther apart than this (R) close a loop
+  int loopMinInliers = 10;      ///< a keyframe "matches" the frame with at least this many inliers
+  int edgeMinMatches = 5;       ///< fewer inlier matches with a keyframe make no graph edge
+  int minFeatures = 20;         ///< fewer features with depth: the frame cannot be tracked
+  int relocalizeAfter = 1;      ///< lost frames before the whole map is searched as well
+  int relocalizeMinInliers = 20;    ///< stricter than min_inliers: the whole map can alias
+  double maxTranslationJump = 0.5;  ///< metres between consecutive tracked frames (not when lost)
+  bool keepKeyframeImages = false;  ///< store colour+depth in keyframes for dense outputs
+  bool weightedRefit = true;        ///< final pose fit weighs pairs by their depth noise
   EdgeInformation edgeInformation = EdgeInformation::Isotropic;  ///< how edges weigh matches
-  bool anisotropicRefinement = true; ///< Gauss-Newton pose refinement with ray-aligned noise
+  bool anisotropicRefinement = true;  ///< Gauss-Newton pose refinement with ray-aligned noise
   /// Dense point-to-plane term in the refinement; 0 = off. Strong by default because the local
   /// optimization keeps keyframes consistent; with local_optimization = false use <= 1, or the
   /// frame-to-keyframe alignment drifts like odometry.
   double depthAlignmentWeight = 100.0;
-  int depthAlignmentStride = 8;       ///< pixels between the current frame's depth samples
+  int depthAlignmentStride = 8;             ///< pixels between the current frame's depth samples
   double depthAlignmentMaxDistance = 0.05;  ///< metres: farther associations are rejected
   double depthAlignmentMaxDepth = 4.0;      ///< metres: farther depth is too noisy to align
   FeaturePoolOptions pool;
