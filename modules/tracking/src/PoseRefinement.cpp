@@ -36,14 +36,9 @@ CameraIntrinsics scaleIntrinsics(const CameraIntrinsics& K, int stride) {
   return k;
 }
 
-namespace {
-
-/// Adds the point-to-plane terms of the depth alignment to the normal equations.
-void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas,
-                  Eigen::Matrix<double, 6, 6>& H, Eigen::Matrix<double, 6, 1>& g) {
+std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const DepthAlignmentTerm& d) {
   static const DepthNoiseModel noise;
   const Pose refFromWorld = d.worldFromReference.inverse();
-  const Eigen::Matrix3d Rrw = refFromWorld.linear();
   const cv::Mat& D = d.referenceDepth;
   const CameraIntrinsics& K = d.referenceIntrinsics;
   auto pointAt = [&](int u, int v, Eigen::Vector3d& p) {
@@ -53,9 +48,11 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
     p = K.backProject(u, v, z);
     return true;
   };
+  const Pose refFromCamera = refFromWorld * T;
+  std::vector<DepthCorrespondence> out;
+  out.reserve(d.framePoints.size());
   for (const Eigen::Vector3d& pc : d.framePoints) {
-    const Eigen::Vector3d x = T * pc;            // world
-    const Eigen::Vector3d q = refFromWorld * x;  // reference camera frame
+    const Eigen::Vector3d q = refFromCamera * pc;
     if (q.z() <= 0.1) continue;
     const Eigen::Vector2d uv = K.project(q);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
@@ -68,12 +65,26 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
     if (std::abs(n.dot(p0.normalized())) < 0.3) continue;  // grazing surfaces: unreliable depth
     const double r = n.dot(q - p0);
     if (std::abs(r) > d.maxDistance || (q - p0).norm() > 2 * d.maxDistance) continue;
-    const double sigma = noise.depthSigma(p0.z()) + noise.depthSigma(pc.z());
-    const double m = std::abs(r) / sigma;
-    const double w = d.weight * (m <= huberSigmas ? 1.0 : huberSigmas / m) / (sigma * sigma);
+    out.push_back({p0, pc, n, noise.depthSigma(p0.z()) + noise.depthSigma(pc.z())});
+  }
+  return out;
+}
+
+namespace {
+
+/// Adds the point-to-plane terms of the depth alignment to the normal equations.
+void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas,
+                  Eigen::Matrix<double, 6, 6>& H, Eigen::Matrix<double, 6, 1>& g) {
+  const Eigen::Matrix3d Rrw = d.worldFromReference.linear().transpose();
+  for (const DepthCorrespondence& c : depthCorrespondences(T, d)) {
+    const Eigen::Vector3d x = T * c.framePoint;  // world
+    const Eigen::Vector3d q = d.worldFromReference.inverse() * x;
+    const double r = c.normal.dot(q - c.referencePoint);
+    const double m = std::abs(r) / c.sigma;
+    const double w = d.weight * (m <= huberSigmas ? 1.0 : huberSigmas / m) / (c.sigma * c.sigma);
     // dq/dδ = R_rw [I, -[x]×] for a left perturbation of the world pose.
     Eigen::Matrix<double, 1, 6> J;
-    const Eigen::RowVector3d nR = n.transpose() * Rrw;
+    const Eigen::RowVector3d nR = c.normal.transpose() * Rrw;
     J.leftCols<3>() = nR;
     J.rightCols<3>() = -nR * skew(x);
     H += w * J.transpose() * J;

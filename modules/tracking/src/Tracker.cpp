@@ -128,6 +128,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     const FeatureSet kept = features;  // the graph owns the moved copy
     const KeyframeId id = addKeyframe(frame, std::move(features), pose);
     linkKeyframe(id, kept, inlierMatches);
+    if (options_.depthEdges) linkKeyframeDepth(id, pose);
     r.newKeyframe = true;
     r.keyframeId = id;
     r.reference = id;
@@ -189,8 +190,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
       if (ransac.inliers[i])
         pairs.push_back({src[i], dst[i], kNoise.covariance(src[i]),
                          pool.feature(matches[i].pool).covarianceWorld});
-    const auto depthTerm = depthTermFor(frame, pool, matches, ransac.inliers);
-    pose = refinePose(pose, pairs, {}, depthTerm ? &*depthTerm : nullptr);
+    lastDepthTerm_ = depthTermFor(frame, pool, matches, ransac.inliers, lastDepthReference_);
+    pose = refinePose(pose, pairs, {}, lastDepthTerm_ ? &*lastDepthTerm_ : nullptr);
   }
   r.timings.ransac += msSince(t);
   if (!lost_ && options_.maxTranslationJump > 0 &&
@@ -209,7 +210,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
 std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
                                                         const FeaturePool& pool,
                                                         const std::vector<PoolMatch>& matches,
-                                                        const std::vector<bool>& inliers) const {
+                                                        const std::vector<bool>& inliers,
+                                                       KeyframeId& reference) const {
   if (options_.depthAlignmentWeight <= 0) return std::nullopt;
   std::map<KeyframeId, size_t> count;
   for (size_t i = 0; i < matches.size(); ++i)
@@ -220,6 +222,7 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
     if (n > count[best]) best = id;
   const KeyframePtr kf = graph_->keyframe(best);
   if (kf->depthSmall.empty()) return std::nullopt;
+  reference = best;
 
   DepthAlignmentTerm term;
   term.referenceDepth = kf->depthSmall;
@@ -332,6 +335,28 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
   }
   for (const auto& [other, pm] : perKeyframe)
     if (static_cast<int>(pm.size()) >= options_.edgeMinMatches) graph_->addMatches(other, id, pm);
+}
+
+void Tracker::linkKeyframeDepth(KeyframeId id, const Pose& pose) {
+  if (!lastDepthTerm_ || !graph_->contains(lastDepthReference_)) return;
+  const auto all = depthCorrespondences(pose, *lastDepthTerm_);
+  if (all.empty()) return;
+  // Evenly thinned to bound the map's size; the weight keeps the total information.
+  const size_t keep = std::min<size_t>(all.size(), options_.depthEdgeMaxMatches);
+  const double scale = static_cast<double>(all.size()) / keep;
+  static const double unitVariance = 2 * kNoise.variance(1.0);
+  std::vector<PointMatch> matches;
+  matches.reserve(keep);
+  for (size_t k = 0; k < keep; ++k) {
+    const DepthCorrespondence& c = all[k * all.size() / keep];
+    // Point-to-plane: e's component along the normal only (a small isotropic part keeps Ω
+    // invertible for the per-match residual form).
+    PointMatch m{c.referencePoint, c.framePoint,
+                 options_.depthEdgeWeight * scale * unitVariance / (c.sigma * c.sigma)};
+    m.information = c.normal * c.normal.transpose() + 1e-6 * Eigen::Matrix3d::Identity();
+    matches.push_back(m);
+  }
+  graph_->addMatches(lastDepthReference_, id, matches);
 }
 
 void Tracker::syncQuadTree() {

@@ -48,6 +48,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthAlignmentMaxDistance =
       r.readDouble("depth_alignment_max_distance", depthAlignmentMaxDistance);
   depthAlignmentMaxDepth = r.readDouble("depth_alignment_max_depth", depthAlignmentMaxDepth);
+  depthEdges = r.readBool("depth_edges", depthEdges);
+  depthEdgeMaxMatches = r.readInt("depth_edge_max_matches", depthEdgeMaxMatches);
+  depthEdgeWeight = r.readDouble("depth_edge_weight", depthEdgeWeight);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
@@ -81,6 +84,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
   require(depthAlignmentWeight >= 0, "depth_alignment_weight must be >= 0");
   require(depthAlignmentStride >= 1, "depth_alignment_stride must be >= 1");
+  require(depthEdgeMaxMatches >= 1, "depth_edge_max_matches must be >= 1");
   require(pool.searchThreads >= 1, "search_threads must be >= 1");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
@@ -111,6 +115,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_alignment_stride", depthAlignmentStride);
   cfg.write(s, "depth_alignment_max_distance", depthAlignmentMaxDistance);
   cfg.write(s, "depth_alignment_max_depth", depthAlignmentMaxDepth);
+  cfg.write(s, "depth_edges", depthEdges);
+  cfg.write(s, "depth_edge_max_matches", depthEdgeMaxMatches);
+  cfg.write(s, "depth_edge_weight", depthEdgeWeight);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

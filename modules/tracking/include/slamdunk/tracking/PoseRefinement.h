@@ -37,6 +37,17 @@ struct DepthAlignmentTerm {
   double weight = 1.0;        ///< relative to the feature term
 };
 
+/// One point-to-plane association of the depth term, in the reference keyframe's frame.
+struct DepthCorrespondence {
+  Eigen::Vector3d referencePoint;  ///< on the reference surface, reference camera frame
+  Eigen::Vector3d framePoint;      ///< current camera frame
+  Eigen::Vector3d normal;          ///< of the reference surface, reference camera frame
+  double sigma = 0;                ///< metres, standard deviation of the point-to-plane distance
+};
+
+/// The associations the depth term uses for a camera pose T (world <- camera).
+std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const DepthAlignmentTerm& d);
+
 /// Returns the refined T (maps source to target), starting from `initial`. With a depth term,
 /// both terms are minimised jointly.
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,

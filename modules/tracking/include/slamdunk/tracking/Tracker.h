@@ -74,13 +74,17 @@ class Tracker {
   /// Dense depth term against the keyframe sharing most inliers (empty if it has no depth).
   std::optional<DepthAlignmentTerm> depthTermFor(const RgbdFrame& frame, const FeaturePool& pool,
                                                  const std::vector<PoolMatch>& matches,
-                                                 const std::vector<bool>& inliers) const;
+                                                 const std::vector<bool>& inliers,
+                                                 KeyframeId& reference) const;
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   bool relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
                   std::vector<PoolMatch>& inlierMatches, Pose& pose);
   KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
   void linkKeyframe(KeyframeId id, const FeatureSet& features,
                     const std::vector<PoolMatch>& inlierMatches);
+  /// Adds the depth term's point-to-plane associations (at the keyframe's pose) to the edge
+  /// with its reference keyframe, so the local optimization keeps what the alignment measured.
+  void linkKeyframeDepth(KeyframeId id, const Pose& pose);
   void syncQuadTree();
   void rebuildPool(const Pose& center, const CameraIntrinsics& K);
   bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
@@ -95,6 +99,8 @@ class Tracker {
   FeaturePool globalPool_;          ///< every keyframe, for relocalization
   size_t globalPoolKeyframes_ = 0;  ///< keyframe count when globalPool_ was built
   size_t framesLost_ = 0;
+  std::optional<DepthAlignmentTerm> lastDepthTerm_;  ///< of the last registered frame
+  KeyframeId lastDepthReference_ = 0;
   Pose windowCenter_ = Pose::Identity();
   Pose lastPose_ = Pose::Identity();
   bool lost_ = false;

@@ -37,6 +37,11 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   int depthAlignmentStride = 8;             ///< pixels between the current frame's depth samples
   double depthAlignmentMaxDistance = 0.05;  ///< metres: farther associations are rejected
   double depthAlignmentMaxDepth = 4.0;      ///< metres: farther depth is too noisy to align
+  /// Keep the depth term's associations in graph edges for the BA. Off: measured worse on
+  /// 7-Scenes (the BA turns into depth odometry); kept for experiments.
+  bool depthEdges = false;
+  int depthEdgeMaxMatches = 400;  ///< per keyframe (thinned evenly, total weight kept)
+  double depthEdgeWeight = 1.0;   ///< weight of those matches relative to feature matches
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
