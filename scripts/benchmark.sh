@@ -3,6 +3,7 @@
 # from this script: it converts the shared recordings (if present), runs slamdunk-rawlog RUNS
 # times per configuration and prints medians as a Markdown table.
 #   scripts/benchmark.sh [RUNS]      (default 3; needs a built tree: scripts/build.sh)
+#   FEATURES="SURF64 ORB" SEQUENCES="7scenes" scripts/benchmark.sh   (a subset of the rows)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -17,7 +18,7 @@ prepare() {  # prepare NAME SEQ CAMERA
   "$bin/tum2rawlog" "$data/$2" "$work/$1.rawlog" --camera "config-ini/cameras/$3" \
     --external-images -q >/dev/null
 }
-[ -f "$work/synthetic_loop.rawlog" ] || "$bin/synthetic-rgbd" "$work/synthetic_loop.rawlog" -q
+[ -f "$work/synthetic_loop.rawlog" ] || "$bin/synthetic-rgbd" "$work/synthetic_loop.rawlog" -q >/dev/null
 prepare 7scenes 7scenes/seq-1000f 7scenes.ini || true
 prepare fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini || true
 prepare fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini || true
@@ -56,7 +57,12 @@ echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*
 echo
 echo "| sequence | features | tracked | keyframes | ATE RMSE m (local opt.) | ATE RMSE m (tracking only) | app FPS | tracking ms/frame (median) | local opt. ms median/max |"
 echo "|---|---|---|---|---|---|---|---|---|"
-for f in SURF64 SURF128 SIFT ORB; do run 7scenes "$f"; done
-run synthetic_loop SURF64
-run fr1_desk_9f SURF64
-run fr3_cabinet_58kf SURF64
+features=${FEATURES:-SURF64 SURF128 SIFT ORB}
+sequences=${SEQUENCES:-7scenes synthetic_loop fr1_desk_9f fr3_cabinet_58kf}
+for s in $sequences; do
+  if [ "$s" = 7scenes ]; then
+    for f in $features; do run 7scenes "$f"; done
+  else
+    run "$s" SURF64
+  fi
+done

@@ -152,16 +152,13 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
   }
   if (kept.empty()) return out;
 
-  const size_t before = kept.size();
   cv::Mat descriptors;
   detector_->compute(frame.grey(), kept, descriptors);
-  if (kept.size() != before) {
-    // Some descriptors drop keypoints near the border: re-associate the 3D points.
-    std::vector<Eigen::Vector3d> remaining;
-    remaining.reserve(kept.size());
-    for (const auto& kp : kept) remaining.push_back(*frame.backProject(kp.pt.x, kp.pt.y));
-    points.swap(remaining);
-  }
+  // compute() may drop keypoints near the border and may reorder them (ORB regroups them by
+  // pyramid level): re-associate the 3D points with the keypoints it returns.
+  points.clear();
+  points.reserve(kept.size());
+  for (const auto& kp : kept) points.push_back(*frame.backProject(kp.pt.x, kp.pt.y));
   out.keypoints = std::move(kept);
   out.descriptors = descriptors;
   out.points = std::move(points);
