@@ -24,7 +24,7 @@ prepare fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini || true
 prepare fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini || true
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
-field() { grep -o "\"$1\": *[-0-9.eE+]*" | head -1 | sed 's/.*: *//'; }
+field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
 
 # run NAME FEATURE EXTRA_SLAM_ARGS...: prints one table row
 run() {

@@ -25,35 +25,12 @@ using namespace slamdunk;
 
 namespace {
 
-std::string q(const std::string& s) { return "'" + s + "'"; }
-
-std::string testRawlog(const std::string& name) {
-  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
-  return fs::exists(p) ? p.string() : std::string();
-}
-
-std::string groundTruthOf(const std::string& rawlog) {
-  const fs::path p(rawlog);
-  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
-}
-
-#define REQUIRE_RAWLOG(var, name)                                                           \
-  const std::string var = testRawlog(name);                                                 \
-  if (var.empty())                                                                          \
-  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
-               << test::dataDir() << ")"
-
-/// A number from the app's --json summary; NaN when absent.
-double jsonValue(const std::string& out, const std::string& key) {
-  const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
-  std::smatch m;
-  return std::regex_search(out, m, re) ? std::stod(m[1]) : std::nan("");
-}
+std::string q(const std::string& s) { return test::shellQuote(s); }
 
 struct SlamRun {
   test::CommandResult result;
   std::string trajectory;
-  double value(const std::string& key) const { return jsonValue(result.output, key); }
+  double value(const std::string& key) const { return test::jsonValue(result.output, key); }
 };
 
 SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std::string& extra = "",
@@ -62,7 +39,8 @@ SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std:
   r.trajectory = outDir + "/trajectory.txt";
   std::string cmd = test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
                     q(r.trajectory) + " --json -q " + extra;
-  if (withGt && fs::exists(groundTruthOf(rawlog))) cmd += " --gt " + q(groundTruthOf(rawlog));
+  if (withGt && fs::exists(test::groundTruthOf(rawlog)))
+    cmd += " --gt " + q(test::groundTruthOf(rawlog));
   r.result = test::runCommand(cmd);
   return r;
 }
@@ -287,7 +265,7 @@ TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
   EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
   EXPECT_GE(r.value("optimizations"), 1) << r.result.output;
 
-  const std::string real = testRawlog("7scenes");
+  const std::string real = test::preparedRawlog("7scenes");
   if (real.empty()) return;
   const SlamRun s =
       runSlam(real, test::scratchDir("SlamThreads7"), "--config " + q(dir + "/threaded.ini"));
@@ -340,7 +318,7 @@ RelocalizationFigures mapThenRelocalize(const std::string& rawlog, const std::st
   f.firstTracked = r.value("first_tracked_frame");
   f.tracked = r.value("tracked");
   f.rmseInMap = rmseInMapFrame(readTumTrajectory(r.trajectory),
-                               readTumTrajectory(groundTruthOf(rawlog)), &f.maxInMap);
+                               readTumTrajectory(test::groundTruthOf(rawlog)), &f.maxInMap);
   return f;
 }
 

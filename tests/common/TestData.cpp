@@ -2,9 +2,11 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 
 namespace fs = std::filesystem;
 
@@ -43,6 +45,24 @@ CommandResult runCommand(const std::string& commandLine) {
   const int status = pclose(pipe);
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
+}
+
+std::string shellQuote(const std::string& s) { return "'" + s + "'"; }
+
+std::string preparedRawlog(const std::string& name) {
+  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR) / "test-data" / (name + ".rawlog");
+  return fs::exists(p) ? p.string() : std::string();
+}
+
+std::string groundTruthOf(const std::string& rawlog) {
+  const fs::path p(rawlog);
+  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
+}
+
+double jsonValue(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
+  std::smatch m;
+  return std::regex_search(json, m, re) ? std::stod(m[1]) : std::nan("");
 }
 
 }  // namespace slamdunk::test

@@ -24,7 +24,23 @@ struct CommandResult {
 /// Runs a shell command line and captures its output and exit code.
 CommandResult runCommand(const std::string& commandLine);
 
+/// Single-quoted for a shell command line.
+std::string shellQuote(const std::string& s);
+/// <build>/test-data/<name>.rawlog made by the prepare_test_data fixture; empty if absent.
+std::string preparedRawlog(const std::string& name);
+/// "<dir>/<stem>_groundtruth.txt" beside a rawlog (as tum2rawlog and synthetic-rgbd write it).
+std::string groundTruthOf(const std::string& rawlog);
+/// A number from a tool's --json output; NaN when the key is absent.
+double jsonValue(const std::string& json, const std::string& key);
+
 }  // namespace slamdunk::test
+
+/// Skips the current test when a prepared rawlog is missing (its source data is absent).
+#define REQUIRE_RAWLOG(var, name)                                                           \
+  const std::string var = ::slamdunk::test::preparedRawlog(name);                           \
+  if (var.empty())                                                                          \
+  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
+               << ::slamdunk::test::dataDir() << ")"
 
 /// Skips the current test with a clear message when a dataset folder/file is missing.
 #define SLAMDUNK_REQUIRE_DATA(var, relative)                                                       \

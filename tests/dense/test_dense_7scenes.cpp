@@ -30,11 +30,6 @@ using namespace slamdunk;
 
 namespace {
 
-std::string testRawlog(const std::string& name) {
-  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
-  return fs::exists(p) ? p.string() : std::string();
-}
-
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -78,7 +73,7 @@ double quantile(const std::vector<double>& sorted, double q) {
 class SevenScenesDense : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    rawlog_ = testRawlog("7scenes");
+    rawlog_ = test::preparedRawlog("7scenes");
     if (rawlog_.empty()) return;
     SlamOptions options;
     options.tracker.keepKeyframeImages = true;

@@ -22,30 +22,7 @@ using namespace slamdunk;
 
 namespace {
 
-std::string q(const std::string& s) { return "'" + s + "'"; }
-
-std::string testRawlog(const std::string& name) {
-  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
-  return fs::exists(p) ? p.string() : std::string();
-}
-
-std::string groundTruthOf(const std::string& rawlog) {
-  const fs::path p(rawlog);
-  return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
-}
-
-#define REQUIRE_RAWLOG(var, name)                                                           \
-  const std::string var = testRawlog(name);                                                 \
-  if (var.empty())                                                                          \
-  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
-               << test::dataDir() << ")"
-
-/// A number from a --json summary; NaN when absent.
-double jsonValue(const std::string& out, const std::string& key) {
-  const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
-  std::smatch m;
-  return std::regex_search(out, m, re) ? std::stod(m[1]) : std::nan("");
-}
+std::string q(const std::string& s) { return test::shellQuote(s); }
 
 std::string writeFile(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
@@ -65,7 +42,7 @@ struct LiveRun {
   test::CommandResult result;
   std::string trajectory, map;
   double seconds = 0;
-  double value(const std::string& key) const { return jsonValue(result.output, key); }
+  double value(const std::string& key) const { return test::jsonValue(result.output, key); }
 };
 
 LiveRun runLive(const std::string& ini, const std::string& outDir, const std::string& extra = "") {
@@ -86,13 +63,13 @@ LiveRun runLive(const std::string& ini, const std::string& outDir, const std::st
 TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
   const std::string dir = test::scratchDir("Live_7Scenes_1x");
-  const std::string gt = groundTruthOf(rawlog);
+  const std::string gt = test::groundTruthOf(rawlog);
 
   const auto offline =
       test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
                        q(dir + "/offline.txt") + " --json -q --gt " + q(gt));
   ASSERT_EQ(offline.exitCode, 0) << offline.output;
-  const double offlineAte = jsonValue(offline.output, "ate_rmse_m");
+  const double offlineAte = test::jsonValue(offline.output, "ate_rmse_m");
 
   const LiveRun live = runLive(replayIni(dir, rawlog), dir, "--gt " + q(gt));
   ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
@@ -117,7 +94,7 @@ TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
   const std::string dir = test::scratchDir("Live_7Scenes_2x");
   const LiveRun live =
-      runLive(replayIni(dir, rawlog), dir, "--speed 2 --gt " + q(groundTruthOf(rawlog)));
+      runLive(replayIni(dir, rawlog), dir, "--speed 2 --gt " + q(test::groundTruthOf(rawlog)));
   ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
   std::printf(
       "7scenes at 2x: received %g, dropped %g, processed %g at %.1f frames/s, lost %g, "
@@ -231,8 +208,8 @@ TEST(SlamdunkLive, RecordingReplaysWithoutTheSourceImages) {
   const auto offline = test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(recording) +
                                         " --trajectory " + q(dir + "/offline.txt") + " --json -q");
   ASSERT_EQ(offline.exitCode, 0) << offline.output;
-  EXPECT_EQ(jsonValue(offline.output, "frames"), 60) << offline.output;
-  EXPECT_EQ(jsonValue(offline.output, "lost"), 0) << offline.output;
+  EXPECT_EQ(test::jsonValue(offline.output, "frames"), 60) << offline.output;
+  EXPECT_EQ(test::jsonValue(offline.output, "lost"), 0) << offline.output;
 }
 
 // ------------------------------------------------------------------ bad input

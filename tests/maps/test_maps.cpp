@@ -42,17 +42,7 @@ using namespace slamdunk;
 
 namespace {
 
-std::string testRawlog(const std::string& name) {
-  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR_FOR_TESTS) / "test-data" / (name + ".rawlog");
-  return fs::exists(p) ? p.string() : std::string();
-}
-
-#define REQUIRE_RAWLOG(var, name)           \
-  const std::string var = testRawlog(name); \
-  if (var.empty())                          \
-  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (run the prepare_test_data test)"
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
+std::string q(const std::string& s) { return test::shellQuote(s); }
 
 SlamOptions optionsWithImages() {
   SlamOptions o;
@@ -77,7 +67,7 @@ std::shared_ptr<KeyframeGraph> runSlam(const std::string& rawlog, size_t maxFram
 std::shared_ptr<KeyframeGraph> sweepGraph() {
   static std::shared_ptr<KeyframeGraph> graph;
   if (!graph) {
-    const std::string rawlog = testRawlog("synthetic_sweep");
+    const std::string rawlog = test::preparedRawlog("synthetic_sweep");
     if (rawlog.empty()) return nullptr;
     graph = runSlam(rawlog, 1000);
   }
