@@ -1,20 +1,16 @@
 #include "LiveSummary.h"
 
+#include <slamdunk/eval/TrajectoryMetrics.h>
+
 #include <algorithm>
 #include <cstdio>
 
 namespace slamdunk::live {
 
 namespace {
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-double maxOf(const std::vector<double>& v) {
-  return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
-}
+// Timing statistics share the evaluation module's conventions (numpy's median).
+double median(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).median; }
+double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
 double fps(size_t frames, double seconds) { return seconds > 0 ? frames / seconds : 0; }
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "RunSummary.h"
 
+#include <slamdunk/eval/TrajectoryMetrics.h>
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -15,18 +17,10 @@ long peakResidentKiB() {
 }
 
 namespace {
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-double mean(const std::vector<double>& v) {
-  return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
-}
-double maxOf(const std::vector<double>& v) {
-  return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
-}
+// Timing statistics share the evaluation module's conventions (numpy's median).
+double median(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).median; }
+double mean(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).mean; }
+double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
 template <class F>
 std::vector<double> column(const std::vector<StageTimings>& t, F f) {
   std::vector<double> out;

@@ -28,17 +28,6 @@ Trajectory circle(std::size_t n, double rate, double t0) {
   return traj;
 }
 
-/// The number after "key": in a JSON text; NaN when absent or null.
-double jsonValue(const std::string& json, const std::string& key) {
-  const std::string tag = "\"" + key + "\":";
-  const std::size_t at = json.find(tag);
-  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
-  const char* start = json.c_str() + at + tag.size();
-  char* end = nullptr;
-  const double v = std::strtod(start, &end);
-  return end == start ? std::numeric_limits<double>::quiet_NaN() : v;
-}
-
 std::string command(const std::string& args) {
   return "\"" + toolPath("evaluate-trajectory") + "\" " + args;
 }
