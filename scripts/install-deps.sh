@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libgtest-dev googletest
-  libmrpt-dev mrpt-apps
+  libmrpt-dev mrpt-apps libnanoflann-dev
   libeigen3-dev
   libopencv-dev
   libceres-dev libsuitesparse-dev
