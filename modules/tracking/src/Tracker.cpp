@@ -125,9 +125,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   }
 
   if (spawn) {
-    const FeatureSet kept = features;  // the graph owns the moved copy
     const KeyframeId id = addKeyframe(frame, std::move(features), pose);
-    linkKeyframe(id, kept, inlierMatches);
+    linkKeyframe(id, graph_->keyframe(id)->features, inlierMatches);
     if (options_.depthEdges) linkKeyframeDepth(id, pose);
     r.newKeyframe = true;
     r.keyframeId = id;
