@@ -19,6 +19,8 @@ prepare() {  # prepare NAME SEQ CAMERA
     --external-images -q >/dev/null
 }
 [ -f "$work/synthetic_loop.rawlog" ] || "$bin/synthetic-rgbd" "$work/synthetic_loop.rawlog" -q >/dev/null
+[ -f "$work/synthetic_loop_kinect.rawlog" ] ||
+  "$bin/synthetic-rgbd" "$work/synthetic_loop_kinect.rawlog" --kinect-depth -q >/dev/null
 prepare 7scenes 7scenes/seq-1000f 7scenes.ini || true
 prepare fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini || true
 prepare fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini || true
@@ -58,7 +60,7 @@ echo
 echo "| sequence | features | tracked | keyframes | ATE RMSE m (local opt.) | ATE RMSE m (tracking only) | app FPS | tracking ms/frame (median) | local opt. ms median/max |"
 echo "|---|---|---|---|---|---|---|---|---|"
 features=${FEATURES:-SURF64 SURF128 SIFT ORB}
-sequences=${SEQUENCES:-7scenes synthetic_loop fr1_desk_9f fr3_cabinet_58kf}
+sequences=${SEQUENCES:-7scenes synthetic_loop synthetic_loop_kinect fr1_desk_9f fr3_cabinet_58kf}
 for s in $sequences; do
   if [ "$s" = 7scenes ]; then
     for f in $features; do run 7scenes "$f"; done

@@ -50,6 +50,11 @@ int main(int argc, char** argv) {
         "standard deviation (metres) of Gaussian noise added to every valid depth (default 0 = "
         "exact depth)",
         false, 0.0, "SIGMA", cmd);
+    TCLAP::SwitchArg argKinect(
+        "", "kinect-depth",
+        "simulate a Kinect v1's depth (disparity noise growing with z^2, 1/8-pixel disparity "
+        "steps, 0.5 px lateral jitter) instead of exact depth",
+        cmd);
     TCLAP::ValueArg<int> argSupersampling(
         "", "supersampling",
         "colour anti-aliasing: render K x K samples per pixel and average them (odd K: 1 = off, "
@@ -64,6 +69,7 @@ int main(int argc, char** argv) {
     opts.frames = argFrames.getValue();
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
+    opts.kinectDepth = argKinect.getValue();
     opts.externalImages = argExternal.getValue();
     opts.supersampling = argSupersampling.getValue();
     opts.validate();  // a clear error before any rendering or file output

@@ -19,10 +19,11 @@ convert() {  # convert NAME SEQ_DIR CAMERA_INI
   "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q
 }
 
-synthetic() {  # synthetic NAME TRAJECTORY
-  local name=$1
+synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
+  local name=$1 trajectory=$2
+  shift 2
   if [ -f "$out/$name.rawlog" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
-  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$2" -q
+  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" -q "$@"
 }
 
 convert 7scenes 7scenes/seq-1000f 7scenes.ini
@@ -30,4 +31,5 @@ convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
 convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
 synthetic synthetic_loop loop
 synthetic synthetic_sweep sweep
+synthetic synthetic_loop_kinect loop --kinect-depth
 ls -l "$out"

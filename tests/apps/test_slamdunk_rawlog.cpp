@@ -66,8 +66,8 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
 }
 
 // With the paper's tracking (no dense depth term), the local optimization improves on tracking
-// alone. (With the default dense term, tracking alone on exact synthetic depth is already at
-// about 1.5 mm and the feature-only BA cannot improve it: see the README.)
+// alone. (With the default dense term, tracking alone on synthetic depth is already at about
+// 1 mm and the feature-only BA cannot improve it: see the README.)
 TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   const std::string dir = test::scratchDir("Slam_SyntheticLoopPaper");
@@ -83,6 +83,16 @@ TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
   EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
       << "local optimization did not improve on tracking alone:\n"
       << opt.result.output << track.result.output;
+}
+
+// The same loop seen through a simulated Kinect v1 (disparity noise and 1/8-px steps).
+TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthIsAccurate) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop_kinect");
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopKinect"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), 0.015) << r.result.output;
+  EXPECT_GE(r.value("loop_closures"), 1) << r.result.output;
 }
 
 TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {

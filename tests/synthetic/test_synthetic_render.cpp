@@ -266,6 +266,37 @@ TEST(SyntheticSequence, DepthNoiseHasTheRequestedSigma) {
   EXPECT_NEAR(mean[0], 0.0, 0.0005);
 }
 
+TEST(KinectDepth, NoiseGrowsWithSquaredDepthOnTheDisparityLattice) {
+  const double fx = 525, fb = fx * 0.075;
+  // σ_z = z² σ_d / (f b) with σ_d² = 0.07² + (1/8)² / 12 (noise plus quantisation), in px.
+  const double sigmaD = std::sqrt(0.07 * 0.07 + 0.125 * 0.125 / 12);
+  for (const double z : {1.0, 2.0, 3.0}) {
+    cv::Mat plane(120, 160, CV_32F, cv::Scalar(z));
+    plane(cv::Rect(0, 0, 20, 120)).setTo(0);  // a hole stays a hole
+    const cv::Mat k = kinectDepth(plane, fx, 7);
+    const cv::Mat valid = plane > 0;
+    EXPECT_EQ(cv::countNonZero(k(cv::Rect(0, 0, 19, 120))), 0) << z;
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(k, mean, stddev, valid & (k > 0));
+    const double expected = z * z * sigmaD / fb;
+    EXPECT_NEAR(stddev[0], expected, 0.2 * expected) << "z = " << z;
+    EXPECT_NEAR(mean[0], z, 0.003 * z) << "z = " << z;
+    // Every value is f b over a whole number of 1/8 px.
+    int offLattice = 0;
+    for (int v = 0; v < k.rows; ++v)
+      for (int u = 20; u < k.cols; ++u) {
+        const float d = k.at<float>(v, u);
+        if (d <= 0) continue;
+        const double eighths = 8 * fb / d;
+        offLattice += std::abs(eighths - std::round(eighths)) > 1e-2;
+      }
+    EXPECT_EQ(offLattice, 0) << "z = " << z;
+  }
+  const cv::Mat plane(60, 80, CV_32F, cv::Scalar(2.0));
+  EXPECT_EQ(cv::norm(kinectDepth(plane, fx, 3), kinectDepth(plane, fx, 3), cv::NORM_INF), 0);
+  EXPECT_GT(cv::norm(kinectDepth(plane, fx, 3), kinectDepth(plane, fx, 4), cv::NORM_INF), 0);
+}
+
 TEST(SyntheticSequence, TexturesGiveManyWellSpreadKeypoints) {
   auto orb = cv::ORB::create(20000);  // no cap in practice: count what the image offers
   for (const auto& [name, frames] : std::vector<std::pair<std::string, std::vector<size_t>>>{

@@ -21,6 +21,45 @@ namespace fs = std::filesystem;
 
 namespace slamdunk {
 
+namespace {
+
+/// Seeded by (seed, frame): the noise of a frame does not depend on which frames were rendered
+/// before it.
+uint64_t frameSeed(unsigned seed, size_t frame) {
+  return (uint64_t(seed) << 32) ^ (uint64_t(frame) * 0x9E3779B97F4A7C15ULL) ^ 0x5DEECE66DULL;
+}
+
+}  // namespace
+
+cv::Mat kinectDepth(const cv::Mat& exact, double fx, uint64_t seed) {
+  // A structured-light camera measures disparity d = f b / z against its projector: depth
+  // noise grows with z² and comes in steps of a disparity quantum. Parameters of a Kinect v1
+  // (Khoshelham & Elberink 2012; the simulation follows Handa et al., ICL-NUIM, 2014).
+  constexpr double kBaseline = 0.075;          // m, projector to IR camera
+  constexpr double kDisparityQuantum = 0.125;  // px: 1/8-pixel sub-pixel disparity
+  constexpr double kDisparitySigma = 0.07;     // px: σ_z = z² σ_d / (f b) ≈ 1.8 mm at 1 m
+  constexpr double kJitterSigma = 0.5;         // px: where the pattern lands, not exactly here
+  const double fb = fx * kBaseline;
+  cv::RNG rng(seed);
+  cv::Mat out(exact.size(), CV_32F, cv::Scalar(0));
+  for (int v = 0; v < exact.rows; ++v) {
+    for (int u = 0; u < exact.cols; ++u) {
+      const double su = u + rng.gaussian(kJitterSigma), sv = v + rng.gaussian(kJitterSigma);
+      const int u0 = static_cast<int>(std::floor(su)), v0 = static_cast<int>(std::floor(sv));
+      const double noise = rng.gaussian(kDisparitySigma);
+      if (u0 < 0 || v0 < 0 || u0 + 1 >= exact.cols || v0 + 1 >= exact.rows) continue;
+      const float z00 = exact.at<float>(v0, u0), z01 = exact.at<float>(v0, u0 + 1);
+      const float z10 = exact.at<float>(v0 + 1, u0), z11 = exact.at<float>(v0 + 1, u0 + 1);
+      if (!(z00 > 0 && z01 > 0 && z10 > 0 && z11 > 0)) continue;  // no pattern seen: a hole
+      const double a = su - u0, b = sv - v0;
+      const double z = (1 - b) * ((1 - a) * z00 + a * z01) + b * ((1 - a) * z10 + a * z11);
+      const double d = std::round((fb / z + noise) / kDisparityQuantum) * kDisparityQuantum;
+      if (d > 0) out.at<float>(v, u) = static_cast<float>(fb / d);
+    }
+  }
+  return out;
+}
+
 CameraIntrinsics SyntheticOptions::intrinsics() const {
   CameraIntrinsics K;
   K.width = width;
@@ -68,11 +107,10 @@ void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
                             std::to_string(size()));
   cv::Mat depth;
   renderer_->render(scene_->scene(), groundTruth_[i].pose, bgr, depth);
+  if (options_.kinectDepth)
+    depth = kinectDepth(depth, options_.fx, frameSeed(options_.seed, i) + 1);
   if (options_.depthNoiseSigma > 0) {
-    // Seeded by (seed, frame): the noise of a frame does not depend on which frames were
-    // rendered before it.
-    cv::RNG rng((uint64_t(options_.seed) << 32) ^ (uint64_t(i) * 0x9E3779B97F4A7C15ULL) ^
-                0x5DEECE66DULL);
+    cv::RNG rng(frameSeed(options_.seed, i));
     cv::Mat noise(depth.size(), CV_32F);
     rng.fill(noise, cv::RNG::NORMAL, 0.0, options_.depthNoiseSigma);
     const cv::Mat valid = depth > 0;

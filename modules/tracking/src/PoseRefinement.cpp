@@ -56,9 +56,11 @@ std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const Depth
     if (q.z() <= 0.1) continue;
     const Eigen::Vector2d uv = K.project(q);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    Eigen::Vector3d p0, px, py;
-    if (!pointAt(u, v, p0) || !pointAt(u + 1, v, px) || !pointAt(u, v + 1, py)) continue;
-    Eigen::Vector3d n = (px - p0).cross(py - p0);
+    Eigen::Vector3d p0, pl, pr, pu, pd;
+    if (!pointAt(u, v, p0) || !pointAt(u - 1, v, pl) || !pointAt(u + 1, v, pr) ||
+        !pointAt(u, v - 1, pu) || !pointAt(u, v + 1, pd))
+      continue;
+    Eigen::Vector3d n = (pr - pl).cross(pd - pu);
     const double nn = n.norm();
     if (nn < 1e-12) continue;
     n /= nn;

@@ -11,6 +11,8 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <opencv2/core.hpp>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -27,7 +29,10 @@ struct SyntheticOptions {
   unsigned seed = 1;                ///< selects the textures (and the depth noise)
   int width = 640, height = 480;
   double fx = 525, fy = 525, cx = 319.5, cy = 239.5;
-  double depthNoiseSigma = 0;   ///< metres; Gaussian noise added to valid depth (0 = exact)
+  double depthNoiseSigma = 0;  ///< metres; Gaussian noise added to valid depth (0 = exact)
+  /// Simulate a Kinect v1's depth (structured-light disparity: lateral jitter, disparity noise,
+  /// 1/8-pixel quantisation) instead of exact depth; see kinectDepth().
+  bool kinectDepth = false;
   bool externalImages = false;  ///< writeSyntheticSequence: images in <name>_Images/
   int supersampling = 3;        ///< colour anti-aliasing factor (odd), see SyntheticRenderer
   bool ceiling = true;
@@ -36,6 +41,11 @@ struct SyntheticOptions {
   /// Throws std::invalid_argument naming the first bad option.
   void validate() const;
 };
+
+/// Depth a Kinect v1 would measure of a scene whose exact z-depth (CV_32F metres, 0 = none) is
+/// given: each pixel's pattern lands 0.5 px (σ) off, disparity gets Gaussian noise and 1/8-px
+/// quantisation. Deterministic for a seed.
+cv::Mat kinectDepth(const cv::Mat& exact, double fx, uint64_t seed);
 
 /// Renders frames of one sequence on demand, in any order; frame i depends only on the options
 /// and i. Creates one offscreen OpenGL context: use it from one thread.
