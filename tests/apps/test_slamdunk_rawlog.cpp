@@ -45,6 +45,23 @@ SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std:
   return r;
 }
 
+/// Writes an INI with the given overrides of the built-in defaults into dir; returns the
+/// "--config FILE" argument for runSlam.
+std::string configWith(const std::string& dir, const std::string& iniText) {
+  std::ofstream(dir + "/override.ini") << iniText;
+  return " --config " + q(dir + "/override.ini");
+}
+
+/// Default run on a prepared sequence: exit 0, no frame lost, ATE below the bound.
+SlamRun expectAllTrackedWithin(const std::string& rawlog, const std::string& dirName,
+                               double ateBound) {
+  SlamRun r = runSlam(rawlog, test::scratchDir(dirName));
+  EXPECT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), ateBound) << r.result.output;
+  return r;
+}
+
 std::string readFile(const std::string& path) {
   std::ifstream f(path);
   return std::string(std::istreambuf_iterator<char>(f), {});
@@ -56,11 +73,7 @@ std::string readFile(const std::string& path) {
 
 TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  const std::string dir = test::scratchDir("Slam_SyntheticLoop");
-  const SlamRun opt = runSlam(rawlog, dir);
-  ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
-  EXPECT_EQ(opt.value("lost"), 0) << opt.result.output;
-  EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
+  const SlamRun opt = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoop", 0.005);
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
 }
@@ -71,8 +84,7 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
 TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   const std::string dir = test::scratchDir("Slam_SyntheticLoopPaper");
-  std::ofstream(dir + "/paper.ini") << "[tracker]\ndepth_alignment_weight = 0\n";
-  const std::string config = " --config " + q(dir + "/paper.ini");
+  const std::string config = configWith(dir, "[tracker]\ndepth_alignment_weight = 0\n");
   const SlamRun opt = runSlam(rawlog, dir, config);
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
@@ -85,22 +97,32 @@ TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
       << opt.result.output << track.result.output;
 }
 
+// Weighing edge matches by keypoint scale (coarse SURF octaves localise to several pixels)
+// makes the feature-only bundle adjustment markedly more precise on the synthetic loop
+// (3.5 -> 2.0 mm measured). Off by default: on 7-Scenes it measured slightly worse.
+TEST(SlamdunkRawlog, SyntheticLoopScaleAwareEdgeWeightsImproveTheOptimization) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("Slam_SyntheticLoopScaleAware");
+  const SlamRun scaleAware =
+      runSlam(rawlog, dir, configWith(dir, "[tracker]\nkeypoint_scale_sigma = 0.2\n"));
+  ASSERT_EQ(scaleAware.result.exitCode, 0) << scaleAware.result.output;
+  const SlamRun plain = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopPlainWeights"));
+  ASSERT_EQ(plain.result.exitCode, 0) << plain.result.output;
+  EXPECT_LT(scaleAware.value("ate_rmse_m"), 0.8 * plain.value("ate_rmse_m"))
+      << scaleAware.result.output << plain.result.output;
+  EXPECT_GE(scaleAware.value("loop_closures"), 1) << scaleAware.result.output;
+}
+
 // The same loop seen through a simulated Kinect v1 (disparity noise and 1/8-px steps).
 TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthIsAccurate) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop_kinect");
-  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopKinect"));
-  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
-  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
-  EXPECT_LT(r.value("ate_rmse_m"), 0.015) << r.result.output;
+  const SlamRun r = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoopKinect", 0.015);
   EXPECT_GE(r.value("loop_closures"), 1) << r.result.output;
 }
 
 TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
-  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_SyntheticSweep"));
-  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
-  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
-  EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
+  expectAllTrackedWithin(rawlog, "Slam_SyntheticSweep", 0.005);
 }
 
 TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
@@ -268,8 +290,8 @@ TEST(SlamdunkRawlogBadInput, TruncatedRawlogKeepsTheFramesBeforeTheDamage) {
 TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
   REQUIRE_RAWLOG(loop, "synthetic_loop");
   const std::string dir = test::scratchDir("SlamThreads");
-  std::ofstream(dir + "/threaded.ini") << "[slam]\noptimizer_thread = true\n";
-  const SlamRun r = runSlam(loop, dir, "--config " + q(dir + "/threaded.ini"));
+  const std::string threaded = configWith(dir, "[slam]\noptimizer_thread = true\n");
+  const SlamRun r = runSlam(loop, dir, threaded);
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
   EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
@@ -277,8 +299,7 @@ TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
 
   const std::string real = test::preparedRawlog("7scenes");
   if (real.empty()) return;
-  const SlamRun s =
-      runSlam(real, test::scratchDir("SlamThreads7"), "--config " + q(dir + "/threaded.ini"));
+  const SlamRun s = runSlam(real, test::scratchDir("SlamThreads7"), threaded);
   ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
   EXPECT_EQ(s.value("tracked"), 1000) << s.result.output;
   EXPECT_LE(s.value("ate_rmse_m"), 0.045) << s.result.output;

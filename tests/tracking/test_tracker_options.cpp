@@ -27,6 +27,7 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   a.windowSize = 3.5;
   a.ransac.seed = 99;
   a.keyframes.gridCols = 6;
+  a.keypointScaleSigma = 0.25;
   mrpt::config::CConfigFileMemory mem;
   a.saveToConfigFile(mem, "tracker");
   TrackerOptions b;
@@ -34,9 +35,12 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   EXPECT_DOUBLE_EQ(b.windowSize, 3.5);
   EXPECT_EQ(b.ransac.seed, 99u);
   EXPECT_EQ(b.keyframes.gridCols, 6);
+  EXPECT_DOUBLE_EQ(b.keypointScaleSigma, 0.25);
 
   mrpt::config::CConfigFileMemory typo("[tracker]\nwindow_sise = 4\n");
   EXPECT_THROW(b.loadFromConfigFile(typo, "tracker"), std::invalid_argument);
   mrpt::config::CConfigFileMemory bad("[tracker]\nratio_threshold = 1.5\n");
   EXPECT_THROW(b.loadFromConfigFile(bad, "tracker"), std::invalid_argument);
+  mrpt::config::CConfigFileMemory negative("[tracker]\nkeypoint_scale_sigma = -0.1\n");
+  EXPECT_THROW(b.loadFromConfigFile(negative, "tracker"), std::invalid_argument);
 }

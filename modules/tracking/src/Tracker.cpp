@@ -210,7 +210,7 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
                                                         const FeaturePool& pool,
                                                         const std::vector<PoolMatch>& matches,
                                                         const std::vector<bool>& inliers,
-                                                       KeyframeId& reference) const {
+                                                        KeyframeId& reference) const {
   if (options_.depthAlignmentWeight <= 0) return std::nullopt;
   std::map<KeyframeId, size_t> count;
   for (size_t i = 0; i < matches.size(); ++i)
@@ -303,19 +303,29 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
                            const std::vector<PoolMatch>& inlierMatches) {
   // Normalised so that a match of two points 1 m away keeps about the paper's weight.
   static const double unitVariance = 2 * kNoise.variance(1.0);
+  const double scaleSigma = options_.keypointScaleSigma;
   const Eigen::Matrix3d R_new = graph_->pose(id).linear();
+  std::map<KeyframeId, KeyframePtr> others;
   std::map<KeyframeId, Eigen::Matrix3d> relativeRotation;  // other <- new
   std::map<KeyframeId, std::vector<PointMatch>> perKeyframe;
   for (const PoolMatch& m : inlierMatches) {
     const PoolFeature& f = pool_.feature(m.pool);
+    auto other = others.find(f.keyframe);
+    if (other == others.end())
+      other = others.emplace(f.keyframe, graph_->keyframe(f.keyframe)).first;
     const Eigen::Vector3d& pOther = f.pointKeyframe;
     const Eigen::Vector3d& pNew = features.points[m.query];
+    const double scaleVarOther = kNoise.keypointScaleVariance(
+        pOther.z(), other->second->features.keypoints[f.index].size, scaleSigma);
+    const double scaleVarNew =
+        kNoise.keypointScaleVariance(pNew.z(), features.keypoints[m.query].size, scaleSigma);
     PointMatch pm{pOther, pNew, 1.0 - m.ratio};  // paper Sec. 4.3: w = 1 - θ'
     switch (options_.edgeInformation) {
       case EdgeInformation::Paper:
         break;
       case EdgeInformation::Isotropic:
-        pm.weight *= unitVariance / (kNoise.variance(pOther.z()) + kNoise.variance(pNew.z()));
+        pm.weight *= unitVariance / (kNoise.variance(pOther.z()) + kNoise.variance(pNew.z()) +
+                                     scaleVarOther + scaleVarNew);
         break;
       case EdgeInformation::Anisotropic: {
         auto it = relativeRotation.find(f.keyframe);
@@ -324,9 +334,13 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
                    .emplace(f.keyframe, graph_->pose(f.keyframe).linear().transpose() * R_new)
                    .first;
         const Eigen::Matrix3d& R = it->second;
-        const Eigen::Matrix3d cov =
-            kNoise.covariance(pOther) + R * kNoise.covariance(pNew) * R.transpose();
-        pm.information = unitVariance * cov.inverse();
+        auto across = [](const Eigen::Vector3d& p) {
+          const Eigen::Vector3d ray = p.normalized();
+          return Eigen::Matrix3d(Eigen::Matrix3d::Identity() - ray * ray.transpose());
+        };
+        const Eigen::Matrix3d covOther = kNoise.covariance(pOther) + scaleVarOther * across(pOther);
+        const Eigen::Matrix3d covNew = kNoise.covariance(pNew) + scaleVarNew * across(pNew);
+        pm.information = unitVariance * (covOther + R * covNew * R.transpose()).inverse();
         break;
       }
     }

@@ -1,6 +1,7 @@
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace slamdunk {
@@ -42,6 +43,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   weightedRefit = r.readBool("weighted_refit", weightedRefit);
   edgeInformation =
       edgeInformationFromString(r.readString("edge_information", toString(edgeInformation)));
+  keypointScaleSigma = r.readDouble("keypoint_scale_sigma", keypointScaleSigma);
   anisotropicRefinement = r.readBool("anisotropic_refinement", anisotropicRefinement);
   depthAlignmentWeight = r.readDouble("depth_alignment_weight", depthAlignmentWeight);
   depthAlignmentStride = r.readInt("depth_alignment_stride", depthAlignmentStride);
@@ -82,6 +84,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(windowShift >= 0, "window_shift must be >= 0");
   require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
   require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
+  require(keypointScaleSigma >= 0 && std::isfinite(keypointScaleSigma),
+          "keypoint_scale_sigma must be a finite number >= 0");
   require(depthAlignmentWeight >= 0, "depth_alignment_weight must be >= 0");
   require(depthAlignmentStride >= 1, "depth_alignment_stride must be >= 1");
   require(depthEdgeMaxMatches >= 1, "depth_edge_max_matches must be >= 1");
@@ -110,6 +114,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "keep_keyframe_images", keepKeyframeImages);
   cfg.write(s, "weighted_refit", weightedRefit);
   cfg.write(s, "edge_information", toString(edgeInformation));
+  cfg.write(s, "keypoint_scale_sigma", keypointScaleSigma);
   cfg.write(s, "anisotropic_refinement", anisotropicRefinement);
   cfg.write(s, "depth_alignment_weight", depthAlignmentWeight);
   cfg.write(s, "depth_alignment_stride", depthAlignmentStride);

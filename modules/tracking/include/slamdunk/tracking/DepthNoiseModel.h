@@ -21,6 +21,12 @@ struct DepthNoiseModel {
     const Eigen::Vector3d ray = p.normalized();
     return lat2 * Eigen::Matrix3d::Identity() + (dep2 - lat2) * ray * ray.transpose();
   }
+  /// Variance across the ray added for a keypoint detected at `size` pixels whose position is
+  /// uncertain by `fraction` of that size: coarse-scale keypoints are localised coarsely.
+  double keypointScaleVariance(double z, double size, double fraction) const {
+    const double s = fraction * size * z / focalLength;
+    return s * s;
+  }
   /// Isotropic variance of the same point (trace / 3), for scalar weights.
   double variance(double z) const {
     const double l = lateralSigma(z), d = depthSigma(z);
