@@ -229,6 +229,7 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
   term.worldFromReference = graph_->pose(best);
   term.weight = options_.depthAlignmentWeight;
   term.maxDistance = options_.depthAlignmentMaxDistance;
+  term.centralNormals = options_.depthAlignmentCentralNormals;
   const int stride = options_.depthAlignmentStride;
   const cv::Mat& depth = frame.depth();
   for (int v = stride / 2; v < depth.rows; v += stride)

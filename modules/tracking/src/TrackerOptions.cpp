@@ -50,6 +50,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthAlignmentMaxDistance =
       r.readDouble("depth_alignment_max_distance", depthAlignmentMaxDistance);
   depthAlignmentMaxDepth = r.readDouble("depth_alignment_max_depth", depthAlignmentMaxDepth);
+  depthAlignmentCentralNormals =
+      r.readBool("depth_alignment_central_normals", depthAlignmentCentralNormals);
   depthEdges = r.readBool("depth_edges", depthEdges);
   depthEdgeMaxMatches = r.readInt("depth_edge_max_matches", depthEdgeMaxMatches);
   depthEdgeWeight = r.readDouble("depth_edge_weight", depthEdgeWeight);
@@ -120,6 +122,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_alignment_stride", depthAlignmentStride);
   cfg.write(s, "depth_alignment_max_distance", depthAlignmentMaxDistance);
   cfg.write(s, "depth_alignment_max_depth", depthAlignmentMaxDepth);
+  cfg.write(s, "depth_alignment_central_normals", depthAlignmentCentralNormals);
   cfg.write(s, "depth_edges", depthEdges);
   cfg.write(s, "depth_edge_max_matches", depthEdgeMaxMatches);
   cfg.write(s, "depth_edge_weight", depthEdgeWeight);

@@ -35,6 +35,10 @@ struct DepthAlignmentTerm {
   Pose worldFromReference = Pose::Identity();
   double maxDistance = 0.05;  ///< metres: farther associations are not the same surface
   double weight = 1.0;        ///< relative to the feature term
+  /// Reference normals from central differences (±1 pixel) instead of one-sided ones: steadier
+  /// on noisy depth (tracking alone drifts far less), see
+  /// TrackerOptions::depthAlignmentCentralNormals.
+  bool centralNormals = false;
 };
 
 /// One point-to-plane association of the depth term, in the reference keyframe's frame.
