@@ -62,6 +62,19 @@ SlamRun expectAllTrackedWithin(const std::string& rawlog, const std::string& dir
   return r;
 }
 
+/// Runs `args` again with --no-optimization and expects the optimized run `opt` to have the
+/// lower ATE; returns the tracking-only run.
+SlamRun expectOptimizationBeatsTrackingAlone(const std::string& rawlog, const SlamRun& opt,
+                                             const std::string& dirName,
+                                             const std::string& args = "") {
+  SlamRun track = runSlam(rawlog, test::scratchDir(dirName), args + " --no-optimization");
+  EXPECT_EQ(track.result.exitCode, 0) << track.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
+      << "local optimization did not improve on tracking alone:\n"
+      << opt.result.output << track.result.output;
+  return track;
+}
+
 std::string readFile(const std::string& path) {
   std::ifstream f(path);
   return std::string(std::istreambuf_iterator<char>(f), {});
@@ -89,12 +102,7 @@ TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
-  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopPaper_NoOpt"),
-                                config + " --no-optimization");
-  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
-  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
-      << "local optimization did not improve on tracking alone:\n"
-      << opt.result.output << track.result.output;
+  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopPaper_NoOpt", config);
 }
 
 // Weighing edge matches by keypoint scale (coarse SURF octaves localise to several pixels)
@@ -119,11 +127,7 @@ TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthOptimizationBeatsTrackingAlone)
   REQUIRE_RAWLOG(rawlog, "synthetic_loop_kinect");
   const SlamRun opt = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoopKinect", 0.03);
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
-  const SlamRun track =
-      runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopKinect_NoOpt"), "--no-optimization");
-  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
-  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
-      << opt.result.output << track.result.output;
+  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopKinect_NoOpt");
 }
 
 TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
@@ -139,12 +143,9 @@ TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   EXPECT_EQ(opt.value("tracked"), 1000) << opt.result.output;
   EXPECT_LE(opt.value("ate_rmse_m"), 0.045) << opt.result.output;
 
-  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_7Scenes_NoOpt"),
-                                "--config " + q(config) + " --no-optimization");
-  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
+  const SlamRun track = expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_7Scenes_NoOpt",
+                                                             "--config " + q(config));
   EXPECT_EQ(track.value("tracked"), 1000) << track.result.output;
-  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
-      << opt.result.output << track.result.output;
 }
 
 TEST(SlamdunkRawlog, TumFr1DeskNineFrames) {
