@@ -63,6 +63,10 @@ void requireOutputFolder(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First, so that an interrupt while the INI, ground truth or source are being loaded is not
+  // lost (a background job of a non-interactive shell starts with SIGINT ignored).
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
   try {
     TCLAP::CmdLine cmd(
         "SlamDunk RGB-D SLAM on a live stream: a camera (COpenNI2Sensor or any MRPT "
@@ -126,8 +130,6 @@ int main(int argc, char** argv) {
     std::unique_ptr<RawlogRecorder> recorder;
     if (argRecord.isSet()) recorder = std::make_unique<RawlogRecorder>(argRecord.getValue());
 
-    std::signal(SIGINT, onSignal);
-    std::signal(SIGTERM, onSignal);
     const bool quiet = argQuiet.getValue();
     if (!quiet) std::fprintf(stderr, "[slamdunk-live] source: %s\n", source->describe().c_str());
 
