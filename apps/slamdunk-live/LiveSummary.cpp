@@ -24,9 +24,10 @@ void printLiveSummary(const LiveFigures& f, bool json) {
         "%zu,\n",
         c.received, c.processed, c.dropped);
     std::printf(
-        "  \"tracked\": %zu, \"lost\": %zu, \"keyframes\": %zu, \"optimizations\": %zu, "
-        "\"loop_closures\": %zu,\n",
-        c.tracked, c.lost, f.stats.keyframes, f.stats.optimizations, f.stats.loopClosures);
+        "  \"tracked\": %zu, \"lost\": %zu, \"tracked_depth_only\": %zu, \"keyframes\": %zu, "
+        "\"optimizations\": %zu, \"loop_closures\": %zu,\n",
+        c.tracked, c.lost, f.stats.trackedDepthOnly, f.stats.keyframes, f.stats.optimizations,
+        f.stats.loopClosures);
     std::printf(
         "  \"fps_received\": %.2f, \"fps_processed\": %.2f, \"active_s\": %.3f, "
         "\"wall_s\": %.3f,\n",
@@ -51,7 +52,8 @@ void printLiveSummary(const LiveFigures& f, bool json) {
   std::printf("slamdunk-live summary%s\n", f.interrupted ? " (interrupted)" : "");
   std::printf("  frames:        %zu received, %zu processed, %zu dropped (tracker behind)\n",
               c.received, c.processed, c.dropped);
-  std::printf("  tracking:      %zu tracked, %zu lost\n", c.tracked, c.lost);
+  std::printf("  tracking:      %zu tracked (%zu by depth alone), %zu lost\n", c.tracked,
+              f.stats.trackedDepthOnly, c.lost);
   for (const auto& why : f.stats.lostReasons) std::printf("    lost because: %s\n", why.c_str());
   std::printf(
       "  keyframes:     %zu, %zu local optimizations (ms median %.1f), %zu loop "

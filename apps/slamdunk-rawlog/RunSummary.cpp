@@ -38,8 +38,10 @@ void printRunSummary(const RunFigures& f, bool json) {
   const auto total = column(s.stageTimings, [](auto& t) { return t.total; });
   const double fps = f.wallSeconds > 0 ? s.frames / f.wallSeconds : 0;
   if (json) {
-    std::printf("{\n  \"frames\": %zu, \"tracked\": %zu, \"lost\": %zu, \"keyframes\": %zu,\n",
-                s.frames, s.tracked, s.lost, s.keyframes);
+    std::printf(
+        "{\n  \"frames\": %zu, \"tracked\": %zu, \"lost\": %zu, \"keyframes\": %zu, "
+        "\"tracked_depth_only\": %zu,\n",
+        s.frames, s.tracked, s.lost, s.keyframes, s.trackedDepthOnly);
     std::printf("  \"edges\": %zu, \"optimizations\": %zu, \"loop_closures\": %zu,\n", f.edges,
                 s.optimizations, s.loopClosures);
     std::printf(
@@ -69,6 +71,9 @@ void printRunSummary(const RunFigures& f, bool json) {
   }
   std::printf("slamdunk-rawlog summary\n");
   std::printf("  frames:          %zu (tracked %zu, lost %zu)\n", s.frames, s.tracked, s.lost);
+  if (s.trackedDepthOnly > 0)
+    std::printf("    by depth alone: %zu (the features did not register them)\n",
+                s.trackedDepthOnly);
   for (const auto& why : s.lostReasons) std::printf("    lost because:  %s\n", why.c_str());
   std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
   std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
@@ -210,14 +211,15 @@ void writeEdited(const std::string& src, const std::string& out, size_t count, E
 
 }  // namespace
 
-TEST(SlamdunkRawlogBadInput, ZeroDepthAndBlackFramesAreLostNotTracked) {
+TEST(SlamdunkRawlogBadInput, ZeroDepthAndWrongSizeFramesAreLostABlackFrameIsTrackedByDepth) {
   REQUIRE_RAWLOG(src, "synthetic_sweep");
   const std::string dir = test::scratchDir("SlamBad_ZeroDepth");
   const std::string rawlog = dir + "/damaged.rawlog";
   std::vector<double> damagedStamps;
+  double blackStamp = 0;
   writeEdited(src, rawlog, 30, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
-    if ((i >= 10 && i < 15) || i == 20 || i == 22)
-      damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
+    if ((i >= 10 && i < 15) || i == 22) damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
+    if (i == 20) blackStamp = mrpt::Clock::toDouble(o.timestamp);
     if (i >= 10 && i < 15) o.rangeImage.fill(0);                           // all-zero depth
     if (i == 20) o.intensityImage.asCvMatRef().setTo(cv::Scalar::all(0));  // black frame
     if (i == 22) o.rangeImage_setSize(240, 320);                           // wrong depth size
@@ -225,12 +227,85 @@ TEST(SlamdunkRawlogBadInput, ZeroDepthAndBlackFramesAreLostNotTracked) {
   const SlamRun r = runSlam(rawlog, dir, "", false);
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_EQ(r.value("frames"), 30) << r.result.output;
-  EXPECT_EQ(r.value("lost"), 7) << r.result.output;
-  EXPECT_EQ(r.value("tracked"), 23) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 6) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), 24) << r.result.output;
+  // No features in the black frame, but its depth is fine (an IR sensor sees in the dark).
+  EXPECT_EQ(r.value("tracked_depth_only"), 1) << r.result.output;
   const Trajectory t = readTumTrajectory(r.trajectory);
-  EXPECT_EQ(t.size(), 23u);
+  EXPECT_EQ(t.size(), 24u);
   for (const auto& p : t)
     for (double s : damagedStamps) EXPECT_GT(std::abs(p.timestamp - s), 1e-4);
+  const Trajectory gt = readTumTrajectory(test::groundTruthOf(src));
+  const auto near = [](const Trajectory& traj, double stamp) {
+    return std::find_if(traj.begin(), traj.end(),
+                        [&](const auto& p) { return std::abs(p.timestamp - stamp) < 1e-4; });
+  };
+  const auto black = near(t, blackStamp), truth = near(gt, blackStamp);
+  ASSERT_TRUE(black != t.end() && truth != gt.end());
+  // The sweep starts at the ground truth's first pose: both are in the same frame.
+  const Pose origin = gt.front().pose.inverse();
+  EXPECT_LT(((origin * truth->pose).translation() - black->pose.translation()).norm(), 0.01);
+}
+
+namespace {
+/// One column of slamdunk-rawlog's --frame-log CSV, by its header name.
+std::vector<std::string> frameLogColumn(const std::string& path, const std::string& name) {
+  auto split = [](const std::string& line) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    return fields;
+  };
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  const auto header = split(line);
+  const size_t k = std::find(header.begin(), header.end(), name) - header.begin();
+  std::vector<std::string> column;
+  while (std::getline(in, line)) {
+    const auto fields = split(line);
+    column.push_back(k < fields.size() ? fields[k] : "");
+  }
+  return column;
+}
+
+/// The rawlog with the colour of frames [first, last) black: the lights go out, the depth
+/// sensor (infrared) keeps working.
+std::string withLightsOff(const std::string& src, const std::string& dir, size_t frames,
+                          size_t first, size_t last) {
+  const std::string out = dir + "/dark.rawlog";
+  writeEdited(src, out, frames, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
+    if (i >= first && i < last) o.intensityImage.asCvMatRef().setTo(cv::Scalar::all(0));
+  });
+  return out;
+}
+}  // namespace
+
+// Two seconds in the dark midway round the loop, where walls, floor and boxes hold the pose:
+// carried by depth alone, then the features take over again and the loop still closes.
+TEST(SlamdunkRawlog, SyntheticLoopLightsOffIsTrackedByDepthAlone) {
+  for (const char* name : {"synthetic_loop", "synthetic_loop_kinect"}) {
+    SCOPED_TRACE(name);
+    REQUIRE_RAWLOG(src, name);
+    const std::string dir = test::scratchDir(std::string("Slam_LightsOff_") + name);
+    const std::string rawlog = withLightsOff(src, dir, 400, 180, 240);
+    fs::copy_file(test::groundTruthOf(src), test::groundTruthOf(rawlog),
+                  fs::copy_options::overwrite_existing);
+    const std::string frameLog = dir + "/frames.csv";
+    const SlamRun r = runSlam(rawlog, dir, "--frame-log " + q(frameLog));
+    ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+    EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+    // Every dark frame by depth alone (a few more while the features find the map again).
+    EXPECT_GE(r.value("tracked_depth_only"), 60) << r.result.output;
+    EXPECT_LE(r.value("tracked_depth_only"), 80) << r.result.output;
+    const auto depthOnly = frameLogColumn(frameLog, "depth_only");
+    ASSERT_EQ(depthOnly.size(), 400u);
+    for (size_t i = 180; i < 240; ++i) EXPECT_EQ(depthOnly[i], "1") << "frame " << i;
+    EXPECT_GE(r.value("loop_closures"), 1) << r.result.output;
+    // Same bounds as with the lights on (exact depth 5 mm, Kinect-like depth 3 cm).
+    EXPECT_LT(r.value("ate_rmse_m"), std::string(name) == "synthetic_loop" ? 0.005 : 0.03)
+        << r.result.output;
+  }
 }
 
 TEST(SlamdunkRawlogBadInput, RawlogWithoutRangeScans) {

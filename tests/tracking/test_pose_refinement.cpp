@@ -1,6 +1,8 @@
 #include <slamdunk/tracking/DepthNoiseModel.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 
+#include "RenderPlanes.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -8,38 +10,13 @@
 using namespace slamdunk;
 
 namespace {
-
-/// Depth image of a corner (floor and two walls meeting 2 m in front of the camera), seen by a
-/// camera at `pose` (world <- camera), rendered by ray casting so the geometry is exact.
 cv::Mat renderCorner(const CameraIntrinsics& K, const Pose& pose) {
-  cv::Mat depth(K.height, K.width, CV_32F, cv::Scalar(0));
-  const Eigen::Vector3d planes[3] = {{0, -1, 0}, {-1, 0, 0}, {0, 0, -1}};  // normals
-  const double offsets[3] = {0.8, 0.9, 2.5};  // n·x + d = 0 with d = offset: y=0.8, x=0.9, z=2.5
-  for (int v = 0; v < K.height; ++v)
-    for (int u = 0; u < K.width; ++u) {
-      const Eigen::Vector3d dirCam((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-      const Eigen::Vector3d o = pose.translation(), d = pose.linear() * dirCam;
-      double best = 1e9;
-      for (int k = 0; k < 3; ++k) {
-        const double denom = planes[k].dot(d);
-        if (std::abs(denom) < 1e-9) continue;
-        const double t = -(planes[k].dot(o) + offsets[k]) / denom;
-        if (t > 0 && t < best) best = t;
-      }
-      if (best < 1e8) depth.at<float>(v, u) = static_cast<float>(best);  // t is z (dirCam.z = 1)
-    }
-  return depth;
+  return test::renderPlanes(K, pose, test::cornerPlanes());
 }
-
 }  // namespace
 
 TEST(PoseRefinement, DepthTermAloneRecoversAPerturbedPose) {
-  CameraIntrinsics K;
-  K.width = 160;
-  K.height = 120;
-  K.fx = K.fy = 130;
-  K.cx = 79.5;
-  K.cy = 59.5;
+  const CameraIntrinsics K = test::smallCamera();
   const Pose reference = Pose::Identity();
   Pose truth = Pose::Identity();
   truth.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, 1, 0.2).normalized()).matrix();

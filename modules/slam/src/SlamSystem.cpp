@@ -59,6 +59,7 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
         stats_.lostReasons.push_back(r.lostReason);
     } else {
       ++stats_.tracked;
+      if (r.depthOnly) ++stats_.trackedDepthOnly;
     }
     if (r.newKeyframe) ++stats_.keyframes;
     if (r.loopClosure) ++stats_.loopClosures;

@@ -2,7 +2,9 @@
 #include <slamdunk/tracking/PoseRefinement.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace slamdunk {
@@ -14,6 +16,38 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return m;
 }
 }  // namespace
+
+cv::Mat fitPlaneNormals(const cv::Mat& depth, const CameraIntrinsics& K, int radius) {
+  cv::Mat normals(depth.size(), CV_32FC3, cv::Scalar::all(0));
+  const int window = (2 * radius + 1) * (2 * radius + 1);
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u) {
+      if (!(depth.at<float>(v, u) > 0)) continue;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d sumSq = Eigen::Matrix3d::Zero();
+      int n = 0;
+      for (int y = std::max(0, v - radius); y <= std::min(depth.rows - 1, v + radius); ++y)
+        for (int x = std::max(0, u - radius); x <= std::min(depth.cols - 1, u + radius); ++x) {
+          const float z = depth.at<float>(y, x);
+          if (!(z > 0)) continue;
+          const Eigen::Vector3d p = K.backProject(x, y, z);
+          sum += p;
+          sumSq += p * p.transpose();
+          ++n;
+        }
+      if (2 * n < window) continue;
+      const Eigen::Vector3d mean = sum / n;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(sumSq / n - mean * mean.transpose());
+      // Not a plane: the thinnest spread is not much thinner than the next.
+      if (es.eigenvalues()(0) > 0.1 * es.eigenvalues()(1)) continue;
+      Eigen::Vector3d normal = es.eigenvectors().col(0);
+      if (normal.dot(mean) > 0) normal = -normal;  // towards the camera
+      normals.at<cv::Vec3f>(v, u) =
+          cv::Vec3f(static_cast<float>(normal.x()), static_cast<float>(normal.y()),
+                    static_cast<float>(normal.z()));
+    }
+  return normals;
+}
 
 cv::Mat subsampleDepth(const cv::Mat& depth, int stride) {
   cv::Mat out((depth.rows + stride - 1) / stride, (depth.cols + stride - 1) / stride, CV_32F);
@@ -58,17 +92,24 @@ std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const Depth
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
     // Central differences: a one-sided normal from three noisy sensor pixels tilts by tens of
     // degrees, and alignment alone then drifts (7-Scenes tracking alone: 0.12 m vs 0.049 m).
-    Eigen::Vector3d p0, pl, pr, pu, pd;
-    if (!pointAt(u, v, p0) || !pointAt(u + 1, v, pr) || !pointAt(u, v + 1, pd)) continue;
-    if (d.centralNormals) {
-      if (!pointAt(u - 1, v, pl) || !pointAt(u, v - 1, pu)) continue;
+    Eigen::Vector3d p0, pl, pr, pu, pd, n;
+    if (!pointAt(u, v, p0)) continue;
+    if (!d.referenceNormals.empty()) {
+      const cv::Vec3f& f = d.referenceNormals.at<cv::Vec3f>(v, u);
+      n = Eigen::Vector3d(f[0], f[1], f[2]);
+      if (n.squaredNorm() < 0.5) continue;
     } else {
-      pl = pu = p0;
+      if (!pointAt(u + 1, v, pr) || !pointAt(u, v + 1, pd)) continue;
+      if (d.centralNormals) {
+        if (!pointAt(u - 1, v, pl) || !pointAt(u, v - 1, pu)) continue;
+      } else {
+        pl = pu = p0;
+      }
+      n = (pr - pl).cross(pd - pu);
+      const double nn = n.norm();
+      if (nn < 1e-12) continue;
+      n /= nn;
     }
-    Eigen::Vector3d n = (pr - pl).cross(pd - pu);
-    const double nn = n.norm();
-    if (nn < 1e-12) continue;
-    n /= nn;
     if (std::abs(n.dot(p0.normalized())) < 0.3) continue;  // grazing surfaces: unreliable depth
     const double r = n.dot(q - p0);
     if (std::abs(r) > d.maxDistance || (q - p0).norm() > 2 * d.maxDistance) continue;

@@ -70,10 +70,12 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     r.timings.total = msSince(start);
     return r;
   };
-  if (static_cast<int>(features.size()) < options_.minFeatures)
-    return lostBecause("only " + std::to_string(features.size()) +
-                       " features with valid depth (need " + std::to_string(options_.minFeatures) +
-                       ")");
+  const bool enoughFeatures = static_cast<int>(features.size()) >= options_.minFeatures;
+  const std::string fewFeatures = "only " + std::to_string(features.size()) +
+                                  " features with valid depth (need " +
+                                  std::to_string(options_.minFeatures) + ")";
+  if (!enoughFeatures && (graph_->keyframeCount() == 0 || !depthOnlyPossible()))
+    return lostBecause(fewFeatures);
 
   if (graph_->keyframeCount() == 0) {
     r = initialize(frame, std::move(features), r);
@@ -93,15 +95,23 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   std::vector<PoolMatch> inlierMatches;
   Pose pose;
   const bool startingFromMap = lost_ && framesLost_ == 0;  // a loaded map, nothing tracked yet
-  bool registered =
-      !startingFromMap && registerFrame(pool_, frame, features, r, inlierMatches, pose);
-  if (!registered && (startingFromMap ||
-                      (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
+  if (!enoughFeatures) r.lostReason = fewFeatures;
+  bool registered = enoughFeatures && !startingFromMap &&
+                    registerFrame(pool_, frame, features, r, inlierMatches, pose);
+  if (!registered && enoughFeatures &&
+      (startingFromMap ||
+       (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
     registered = relocalize(frame, features, r, inlierMatches, pose);
+  if (!registered && depthOnlyPossible())
+    registered = r.depthOnly = registerByDepthOnly(frame, r, pose);
   if (!registered) return lostBecause(r.lostReason);
   r.pose = pose;
   r.status = TrackingStatus::Tracked;
+  r.lostReason.clear();
 
+  // Overlap with the map (paper Sec. 4.2): cells of inlier features, or for a frame registered
+  // by depth alone, the share of its depth samples that found their surface (depth covers
+  // every cell, so the cell count would stay near 1 until the alignment fails).
   std::vector<cv::Point2f> inlierPixels, allPixels;
   std::map<KeyframeId, size_t> inliersPerKeyframe;
   const FeaturePool& usedPool = r.relocalized ? globalPool_ : pool_;
@@ -109,10 +119,14 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     inlierPixels.push_back(features.keypoints[m.query].pt);
     ++inliersPerKeyframe[usedPool.feature(m.pool).keyframe];
   }
-  for (const auto& kp : features.keypoints) allPixels.push_back(kp.pt);
-  r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
+  if (r.depthOnly) {
+    r.overlap = depthOverlap_;
+  } else {
+    for (const auto& kp : features.keypoints) allPixels.push_back(kp.pt);
+    r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
+  }
 
-  KeyframeId reference = inliersPerKeyframe.begin()->first;
+  KeyframeId reference = r.depthOnly ? lastDepthReference_ : inliersPerKeyframe.begin()->first;
   for (const auto& [id, n] : inliersPerKeyframe) {
     if (static_cast<int>(n) >= options_.loopMinInliers) r.matchedKeyframes.push_back(id);
     if (n > inliersPerKeyframe[reference]) reference = id;
@@ -127,7 +141,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (spawn) {
     const KeyframeId id = addKeyframe(frame, std::move(features), pose);
     linkKeyframe(id, graph_->keyframe(id)->features, inlierMatches);
-    if (options_.depthEdges) linkKeyframeDepth(id, pose);
+    // Registered by depth alone, the depth associations are the keyframe's only link.
+    if (options_.depthEdges || r.depthOnly) linkKeyframeDepth(id, pose);
     r.newKeyframe = true;
     r.keyframeId = id;
     r.reference = id;
@@ -145,11 +160,58 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
       r.timings.pool += msSince(t);
     }
   }
+  lastMotion_ = lost_ ? std::nullopt : std::optional<Pose>(lastPose_.inverse() * pose);
   lastPose_ = pose;
+  lastReference_ = r.reference;
   lost_ = false;
   framesLost_ = 0;
   r.timings.total = msSince(start);
   return r;
+}
+
+bool Tracker::depthOnlyPossible() const {
+  // Only right after a tracked frame: the prediction must be close for the alignment to
+  // converge, and a lost camera is found again by relocalization.
+  return options_.depthOnlyFallback && options_.depthAlignmentStride > 0 && !lost_ &&
+         graph_->contains(lastReference_);
+}
+
+bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pose& pose) {
+  const auto t = Clock::now();
+  std::optional<DepthAlignmentTerm> term = depthTermAgainst(frame, lastReference_);
+  auto fail = [&](const std::string& why) {
+    r.lostReason = (r.lostReason.empty() ? "" : r.lostReason + "; ") + why;
+    r.timings.ransac += msSince(t);
+    return false;
+  };
+  if (!term) return fail("depth-only: the reference keyframe has no depth");
+  term->weight = 1.0;  // alone: its scale does not matter, but 0 (dense term off) would
+  // Two predictions, constant velocity (a camera circling an object) and standing still; the
+  // accepted alignment that explains more of the frame wins.
+  std::vector<Pose> predictions{lastPose_};
+  if (lastMotion_) predictions.insert(predictions.begin(), lastPose_ * *lastMotion_);
+  std::optional<DepthOnlyResult> best;
+  std::string failure;
+  for (const Pose& predicted : predictions) {
+    DepthOnlyResult c = slamdunk::registerByDepthOnly(predicted, *term, options_.depthOnly);
+    if (!c.success) {
+      if (failure.empty()) failure = c.failure;
+    } else if (!best || c.associatedFraction > best->associatedFraction) {
+      best = std::move(c);
+    }
+  }
+  if (!best) return fail(failure);
+  if (options_.maxTranslationJump > 0 &&
+      translationDistance(best->pose, lastPose_) > options_.maxTranslationJump)
+    return fail("depth-only: implausible jump of " +
+                std::to_string(translationDistance(best->pose, lastPose_)) + " m");
+  pose = best->pose;
+  term->maxDistance = options_.depthAlignmentMaxDistance;
+  lastDepthTerm_ = std::move(term);
+  lastDepthReference_ = lastReference_;
+  depthOverlap_ = best->associatedFraction;
+  r.timings.ransac += msSince(t);
+  return true;
 }
 
 bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
@@ -219,14 +281,19 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
   KeyframeId best = count.begin()->first;
   for (const auto& [id, n] : count)
     if (n > count[best]) best = id;
-  const KeyframePtr kf = graph_->keyframe(best);
-  if (kf->depthSmall.empty()) return std::nullopt;
-  reference = best;
+  std::optional<DepthAlignmentTerm> term = depthTermAgainst(frame, best);
+  if (term) reference = best;
+  return term;
+}
 
+std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& frame,
+                                                            KeyframeId reference) const {
+  const KeyframePtr kf = graph_->keyframe(reference);
+  if (!kf || kf->depthSmall.empty()) return std::nullopt;
   DepthAlignmentTerm term;
   term.referenceDepth = kf->depthSmall;
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
-  term.worldFromReference = graph_->pose(best);
+  term.worldFromReference = graph_->pose(reference);
   term.weight = options_.depthAlignmentWeight;
   term.maxDistance = options_.depthAlignmentMaxDistance;
   term.centralNormals = options_.depthAlignmentCentralNormals;
@@ -274,6 +341,8 @@ TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features
   r.keyframeId = id;
   r.features = graph_->keyframe(id)->features.size();
   lastPose_ = Pose::Identity();
+  lastMotion_.reset();
+  lastReference_ = id;
   lost_ = false;
   poolDirty_ = true;
   return r;

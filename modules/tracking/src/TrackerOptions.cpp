@@ -55,6 +55,11 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthEdges = r.readBool("depth_edges", depthEdges);
   depthEdgeMaxMatches = r.readInt("depth_edge_max_matches", depthEdgeMaxMatches);
   depthEdgeWeight = r.readDouble("depth_edge_weight", depthEdgeWeight);
+  depthOnlyFallback = r.readBool("depth_only_fallback", depthOnlyFallback);
+  depthOnly.minAssociatedFraction =
+      r.readDouble("depth_only_min_overlap", depthOnly.minAssociatedFraction);
+  depthOnly.maxRmsResidual = r.readDouble("depth_only_max_residual", depthOnly.maxRmsResidual);
+  depthOnly.minConstraint = r.readDouble("depth_only_min_constraint", depthOnly.minConstraint);
 
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
@@ -91,6 +96,10 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(depthAlignmentWeight >= 0, "depth_alignment_weight must be >= 0");
   require(depthAlignmentStride >= 1, "depth_alignment_stride must be >= 1");
   require(depthEdgeMaxMatches >= 1, "depth_edge_max_matches must be >= 1");
+  require(depthOnly.minAssociatedFraction >= 0 && depthOnly.minAssociatedFraction <= 1,
+          "depth_only_min_overlap must be in [0, 1]");
+  require(depthOnly.maxRmsResidual > 0, "depth_only_max_residual must be > 0");
+  require(depthOnly.minConstraint >= 0, "depth_only_min_constraint must be >= 0");
   require(pool.searchThreads >= 1, "search_threads must be >= 1");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
@@ -126,6 +135,10 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_edges", depthEdges);
   cfg.write(s, "depth_edge_max_matches", depthEdgeMaxMatches);
   cfg.write(s, "depth_edge_weight", depthEdgeWeight);
+  cfg.write(s, "depth_only_fallback", depthOnlyFallback);
+  cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);
+  cfg.write(s, "depth_only_max_residual", depthOnly.maxRmsResidual);
+  cfg.write(s, "depth_only_min_constraint", depthOnly.minConstraint);
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

@@ -28,6 +28,7 @@ struct FrameRecord {
 
 struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
+  size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
   std::vector<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
   std::vector<double> optimizationMs;      ///< one per local optimization

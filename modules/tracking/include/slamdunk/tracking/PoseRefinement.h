@@ -39,6 +39,9 @@ struct DepthAlignmentTerm {
   /// on noisy depth (tracking alone drifts far less), see
   /// TrackerOptions::depthAlignmentCentralNormals.
   bool centralNormals = false;
+  /// Optional reference normals (CV_32FC3, one per referenceDepth pixel, zero where none), e.g.
+  /// from fitPlaneNormals(); they replace the normals from neighbouring pixels.
+  cv::Mat referenceNormals;
 };
 
 /// One point-to-plane association of the depth term, in the reference keyframe's frame.
@@ -57,6 +60,12 @@ std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const Depth
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
                 const PoseRefinementOptions& options = {},
                 const DepthAlignmentTerm* depth = nullptr);
+
+/// Normals of a depth image (CV_32F metres) from a plane fitted to each pixel's window of
+/// ±radius pixels; zero where the window holds too few points or no plane (an edge, a corner).
+/// Steadier than differences of neighbours on quantised sensor depth, whose steps tilt those by
+/// tens of degrees, and a staircase floor tilts them all the same way.
+cv::Mat fitPlaneNormals(const cv::Mat& depth, const CameraIntrinsics& K, int radius);
 
 /// Subsamples a depth image (keeps the pixel at each stride step; 0 stays invalid).
 cv::Mat subsampleDepth(const cv::Mat& depth, int stride);

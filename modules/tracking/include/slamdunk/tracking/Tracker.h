@@ -40,6 +40,7 @@ struct TrackingResult {
   bool newKeyframe = false;
   bool loopClosure = false;   ///< the new keyframe was promoted by the metric-loop test
   bool relocalized = false;   ///< registered against the whole map after being lost
+  bool depthOnly = false;     ///< registered by depth alone (the features did not register)
   KeyframeId keyframeId = 0;  ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;
   size_t poolSize = 0;  ///< features in the pool this frame was matched against
@@ -76,6 +77,12 @@ class Tracker {
                                                  const std::vector<PoolMatch>& matches,
                                                  const std::vector<bool>& inliers,
                                                  KeyframeId& reference) const;
+  /// The current frame's depth samples and a keyframe's depth, for the dense term.
+  std::optional<DepthAlignmentTerm> depthTermAgainst(const RgbdFrame& frame,
+                                                     KeyframeId reference) const;
+  bool depthOnlyPossible() const;
+  /// Aligns the frame's depth alone with the last reference keyframe (textureless view).
+  bool registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pose& pose);
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   bool relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
                   std::vector<PoolMatch>& inlierMatches, Pose& pose);
@@ -103,6 +110,9 @@ class Tracker {
   KeyframeId lastDepthReference_ = 0;
   Pose windowCenter_ = Pose::Identity();
   Pose lastPose_ = Pose::Identity();
+  std::optional<Pose> lastMotion_;  ///< between the last two frames, if both were tracked
+  KeyframeId lastReference_ = 0;    ///< of the last tracked frame
+  double depthOverlap_ = 0;         ///< of the last frame registered by depth alone
   bool lost_ = false;
   bool poolDirty_ = false;
   std::atomic<bool> mapChanged_{false};

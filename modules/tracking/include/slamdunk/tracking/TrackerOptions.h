@@ -1,6 +1,7 @@
 #pragma once
 // Every tracking parameter, read from one INI section (paper Table 3 names in comments).
 
+#include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
@@ -49,6 +50,10 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   bool depthEdges = false;
   int depthEdgeMaxMatches = 400;  ///< per keyframe (thinned evenly, total weight kept)
   double depthEdgeWeight = 1.0;   ///< weight of those matches relative to feature matches
+  /// When the features do not register a frame right after a tracked one, align its depth
+  /// alone with the reference keyframe's (textureless scenes), see DepthOnlyRegistration.h.
+  bool depthOnlyFallback = true;
+  DepthOnlyOptions depthOnly;
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;

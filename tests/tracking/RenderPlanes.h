@@ -1,0 +1,57 @@
+#pragma once
+// Exact depth images of scenes made of planes, by ray casting: ground truth for the dense
+// alignment tests.
+
+#include <slamdunk/core/CameraIntrinsics.h>
+#include <slamdunk/core/Pose.h>
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace slamdunk::test {
+
+/// The plane n·x + offset = 0 (world frame).
+struct Plane {
+  Eigen::Vector3d normal;
+  double offset;
+};
+
+/// A corner 2.5 m ahead: floor (y = 0.8, y points down), a wall at x = 0.9, a wall at z = 2.5.
+inline std::vector<Plane> cornerPlanes() {
+  return {{{0, -1, 0}, 0.8}, {{-1, 0, 0}, 0.9}, {{0, 0, -1}, 2.5}};
+}
+
+/// Depth (CV_32F metres) of the nearest plane along each pixel's ray, for a camera at `pose`
+/// (world <- camera); 0 where no plane is hit.
+inline cv::Mat renderPlanes(const CameraIntrinsics& K, const Pose& pose,
+                            const std::vector<Plane>& planes) {
+  cv::Mat depth(K.height, K.width, CV_32F, cv::Scalar(0));
+  for (int v = 0; v < K.height; ++v)
+    for (int u = 0; u < K.width; ++u) {
+      const Eigen::Vector3d dirCam((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+      const Eigen::Vector3d o = pose.translation(), d = pose.linear() * dirCam;
+      double best = 1e9;
+      for (const Plane& p : planes) {
+        const double denom = p.normal.dot(d);
+        if (std::abs(denom) < 1e-9) continue;
+        const double t = -(p.normal.dot(o) + p.offset) / denom;
+        if (t > 0 && t < best) best = t;
+      }
+      if (best < 1e8) depth.at<float>(v, u) = static_cast<float>(best);  // t is z (dirCam.z = 1)
+    }
+  return depth;
+}
+
+/// A small camera (160x120) for these images.
+inline CameraIntrinsics smallCamera() {
+  CameraIntrinsics K;
+  K.width = 160;
+  K.height = 120;
+  K.fx = K.fy = 130;
+  K.cx = 79.5;
+  K.cy = 59.5;
+  return K;
+}
+
+}  // namespace slamdunk::test
