@@ -186,6 +186,13 @@ bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pos
   };
   if (!term) return fail("depth-only: the reference keyframe has no depth");
   term->weight = 1.0;  // alone: its scale does not matter, but 0 (dense term off) would
+  // Fitted once per reference keyframe: a dark stretch aligns many frames with the same one.
+  if (fittedNormalsKeyframe_ != lastReference_ || fittedNormals_.empty()) {
+    fittedNormals_ = fitPlaneNormals(term->referenceDepth, term->referenceIntrinsics,
+                                     options_.depthOnly.normalRadius);
+    fittedNormalsKeyframe_ = lastReference_;
+  }
+  term->referenceNormals = fittedNormals_;
   // Two predictions, constant velocity (a camera circling an object) and standing still; the
   // accepted alignment that explains more of the frame wins.
   std::vector<Pose> predictions{lastPose_};

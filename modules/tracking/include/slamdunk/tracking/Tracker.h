@@ -113,6 +113,8 @@ class Tracker {
   std::optional<Pose> lastMotion_;  ///< between the last two frames, if both were tracked
   KeyframeId lastReference_ = 0;    ///< of the last tracked frame
   double depthOverlap_ = 0;         ///< of the last frame registered by depth alone
+  cv::Mat fittedNormals_;           ///< of fittedNormalsKeyframe_'s depth, for depth alone
+  KeyframeId fittedNormalsKeyframe_ = 0;
   bool lost_ = false;
   bool poolDirty_ = false;
   std::atomic<bool> mapChanged_{false};
