@@ -27,24 +27,6 @@ double weakestConstraint(const std::vector<DepthCorrespondence>& c) {
   return static_cast<double>(facing) / static_cast<double>(c.size());
 }
 
-/// Share of the frame's depth samples that land on the reference's depth, within the final
-/// gate: the overlap of the two views (whether or not a plane was fitted there).
-double overlapShare(const Pose& T, const DepthAlignmentTerm& d) {
-  const Pose refFromCamera = d.worldFromReference.inverse() * T;
-  const cv::Mat& D = d.referenceDepth;
-  size_t landed = 0;
-  for (const Eigen::Vector3d& pc : d.framePoints) {
-    const Eigen::Vector3d q = refFromCamera * pc;
-    if (q.z() <= 0.1) continue;
-    const Eigen::Vector2d uv = d.referenceIntrinsics.project(q);
-    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    if (u < 0 || v < 0 || u >= D.cols || v >= D.rows) continue;
-    const float z = D.at<float>(v, u);
-    if (z > 0 && std::abs(z - q.z()) < 2 * d.maxDistance) ++landed;
-  }
-  return static_cast<double>(landed) / static_cast<double>(d.framePoints.size());
-}
-
 std::string describe(const char* what, double value, const char* op, double bound) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "depth-only: %s %.3g (%s %.3g)", what, value, op, bound);
@@ -79,13 +61,9 @@ DepthOnlyResult registerByDepthOnly(const Pose& predicted, DepthAlignmentTerm te
   r.pose.linear() = Eigen::Quaterniond(r.pose.linear()).normalized().toRotationMatrix();
 
   const std::vector<DepthCorrespondence> c = depthCorrespondences(r.pose, term);
-  r.associatedFraction = overlapShare(r.pose, term);
-  const Pose refFromWorld = term.worldFromReference.inverse();
+  r.associatedFraction = depthOverlap(r.pose, term);
   double sq = 0;
-  for (const DepthCorrespondence& x : c) {
-    const double e = x.normal.dot(refFromWorld * (r.pose * x.framePoint) - x.referencePoint);
-    sq += e * e;
-  }
+  for (const DepthCorrespondence& x : c) sq += x.residual * x.residual;
   r.rmsResidual = c.empty() ? 0 : std::sqrt(sq / c.size());
   r.constraint = weakestConstraint(c);
 

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace slamdunk {
 
@@ -70,6 +71,38 @@ CameraIntrinsics scaleIntrinsics(const CameraIntrinsics& K, int stride) {
   return k;
 }
 
+namespace {
+/// Where a current-frame point lands in the reference depth image.
+struct Landing {
+  Eigen::Vector3d q;  ///< the point in the reference camera frame
+  int u, v;           ///< nearest reference pixel, inside the image
+};
+
+std::optional<Landing> landInReference(const Pose& refFromCamera, const Eigen::Vector3d& pc,
+                                       const DepthAlignmentTerm& d) {
+  const Eigen::Vector3d q = refFromCamera * pc;
+  if (q.z() <= 0.1) return std::nullopt;
+  const Eigen::Vector2d uv = d.referenceIntrinsics.project(q);
+  const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+  if (u < 0 || v < 0 || u >= d.referenceDepth.cols || v >= d.referenceDepth.rows)
+    return std::nullopt;
+  return Landing{q, u, v};
+}
+}  // namespace
+
+double depthOverlap(const Pose& T, const DepthAlignmentTerm& d) {
+  if (d.framePoints.empty()) return 0;
+  const Pose refFromCamera = d.worldFromReference.inverse() * T;
+  size_t landed = 0;
+  for (const Eigen::Vector3d& pc : d.framePoints) {
+    const auto l = landInReference(refFromCamera, pc, d);
+    if (!l) continue;
+    const float z = d.referenceDepth.at<float>(l->v, l->u);
+    if (z > 0 && std::abs(z - l->q.z()) < 2 * d.maxDistance) ++landed;
+  }
+  return static_cast<double>(landed) / static_cast<double>(d.framePoints.size());
+}
+
 std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const DepthAlignmentTerm& d) {
   static const DepthNoiseModel noise;
   const Pose refFromWorld = d.worldFromReference.inverse();
@@ -86,12 +119,13 @@ std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const Depth
   std::vector<DepthCorrespondence> out;
   out.reserve(d.framePoints.size());
   for (const Eigen::Vector3d& pc : d.framePoints) {
-    const Eigen::Vector3d q = refFromCamera * pc;
-    if (q.z() <= 0.1) continue;
-    const Eigen::Vector2d uv = K.project(q);
-    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    // Central differences: a one-sided normal from three noisy sensor pixels tilts by tens of
-    // degrees, and alignment alone then drifts (7-Scenes tracking alone: 0.12 m vs 0.049 m).
+    const auto l = landInReference(refFromCamera, pc, d);
+    if (!l) continue;
+    const Eigen::Vector3d& q = l->q;
+    const int u = l->u, v = l->v;
+    // Normals: given (fitted planes), or from neighbouring pixels. One-sided ones from three
+    // noisy sensor pixels tilt by tens of degrees and alignment alone then drifts (7-Scenes
+    // tracking alone: 0.12 m vs 0.049 m with central differences).
     Eigen::Vector3d p0, pl, pr, pu, pd, n;
     if (!pointAt(u, v, p0)) continue;
     if (!d.referenceNormals.empty()) {
@@ -113,7 +147,7 @@ std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const Depth
     if (std::abs(n.dot(p0.normalized())) < 0.3) continue;  // grazing surfaces: unreliable depth
     const double r = n.dot(q - p0);
     if (std::abs(r) > d.maxDistance || (q - p0).norm() > 2 * d.maxDistance) continue;
-    out.push_back({p0, pc, n, noise.depthSigma(p0.z()) + noise.depthSigma(pc.z())});
+    out.push_back({p0, pc, n, noise.depthSigma(p0.z()) + noise.depthSigma(pc.z()), r});
   }
   return out;
 }

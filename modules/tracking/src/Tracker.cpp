@@ -71,11 +71,11 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     return r;
   };
   const bool enoughFeatures = static_cast<int>(features.size()) >= options_.minFeatures;
-  const std::string fewFeatures = "only " + std::to_string(features.size()) +
-                                  " features with valid depth (need " +
-                                  std::to_string(options_.minFeatures) + ")";
-  if (!enoughFeatures && (graph_->keyframeCount() == 0 || !depthOnlyPossible()))
-    return lostBecause(fewFeatures);
+  auto fewFeatures = [&] {
+    return "only " + std::to_string(features.size()) + " features with valid depth (need " +
+           std::to_string(options_.minFeatures) + ")";
+  };
+  if (!enoughFeatures && !depthOnlyPossible()) return lostBecause(fewFeatures());
 
   if (graph_->keyframeCount() == 0) {
     r = initialize(frame, std::move(features), r);
@@ -95,7 +95,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   std::vector<PoolMatch> inlierMatches;
   Pose pose;
   const bool startingFromMap = lost_ && framesLost_ == 0;  // a loaded map, nothing tracked yet
-  if (!enoughFeatures) r.lostReason = fewFeatures;
+  if (!enoughFeatures) r.lostReason = fewFeatures();
   bool registered = enoughFeatures && !startingFromMap &&
                     registerFrame(pool_, frame, features, r, inlierMatches, pose);
   if (!registered && enoughFeatures &&
@@ -119,9 +119,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     inlierPixels.push_back(features.keypoints[m.query].pt);
     ++inliersPerKeyframe[usedPool.feature(m.pool).keyframe];
   }
-  if (r.depthOnly) {
-    r.overlap = depthOverlap_;
-  } else {
+  if (!r.depthOnly) {  // registerByDepthOnly set it
     for (const auto& kp : features.keypoints) allPixels.push_back(kp.pt);
     r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
   }
@@ -216,7 +214,7 @@ bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pos
   term->maxDistance = options_.depthAlignmentMaxDistance;
   lastDepthTerm_ = std::move(term);
   lastDepthReference_ = lastReference_;
-  depthOverlap_ = best->associatedFraction;
+  r.overlap = best->associatedFraction;
   r.timings.ransac += msSince(t);
   return true;
 }

@@ -50,10 +50,15 @@ struct DepthCorrespondence {
   Eigen::Vector3d framePoint;      ///< current camera frame
   Eigen::Vector3d normal;          ///< of the reference surface, reference camera frame
   double sigma = 0;                ///< metres, standard deviation of the point-to-plane distance
+  double residual = 0;             ///< metres, point-to-plane distance at the pose it was made for
 };
 
 /// The associations the depth term uses for a camera pose T (world <- camera).
 std::vector<DepthCorrespondence> depthCorrespondences(const Pose& T, const DepthAlignmentTerm& d);
+/// Share of the frame's depth samples that land on the reference's depth (within twice the
+/// gate along the reference's ray) at pose T: the overlap of the two views, whether or not a
+/// normal exists there.
+double depthOverlap(const Pose& T, const DepthAlignmentTerm& d);
 
 /// Returns the refined T (maps source to target), starting from `initial`. With a depth term,
 /// both terms are minimised jointly.

@@ -81,7 +81,8 @@ class Tracker {
   std::optional<DepthAlignmentTerm> depthTermAgainst(const RgbdFrame& frame,
                                                      KeyframeId reference) const;
   bool depthOnlyPossible() const;
-  /// Aligns the frame's depth alone with the last reference keyframe (textureless view).
+  /// Aligns the frame's depth alone with the last reference keyframe (textureless view); sets
+  /// r.overlap to the share of its depth that lands on the keyframe's.
   bool registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pose& pose);
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   bool relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
@@ -112,7 +113,6 @@ class Tracker {
   Pose lastPose_ = Pose::Identity();
   std::optional<Pose> lastMotion_;  ///< between the last two frames, if both were tracked
   KeyframeId lastReference_ = 0;    ///< of the last tracked frame
-  double depthOverlap_ = 0;         ///< of the last frame registered by depth alone
   cv::Mat fittedNormals_;           ///< of fittedNormalsKeyframe_'s depth, for depth alone
   KeyframeId fittedNormalsKeyframe_ = 0;
   bool lost_ = false;
