@@ -1,5 +1,6 @@
-// synthetic-rgbd: renders a synthetic RGB-D sequence of a textured room with exact ground truth
-// into an MRPT rawlog (CObservation3DRangeScan) and a TUM ground-truth file.
+// synthetic-rgbd: renders a synthetic RGB-D sequence of a textured indoor scene (one room, or an
+// office of four rooms and corridors) with exact ground truth into an MRPT rawlog
+// (CObservation3DRangeScan) and a TUM ground-truth file.
 
 #include <slamdunk/synthetic/SyntheticSequence.h>
 
@@ -14,21 +15,28 @@
 int main(int argc, char** argv) {
   try {
     TCLAP::CmdLine cmd(
-        "Renders a synthetic RGB-D sequence (a textured indoor room, software OpenGL through EGL, "
+        "Renders a synthetic RGB-D sequence (a textured indoor scene, software OpenGL through EGL, "
         "no display needed) into an MRPT rawlog of CObservation3DRangeScan observations "
         "(observation-only format, the layout tum2rawlog produces: 640x480, fx=fy=525, "
         "depth as raw 16-bit units of 0.2 mm, z-depth, exact) and writes the exact camera "
         "trajectory as a TUM ground-truth file (optical frame, same timestamps, 30 Hz). The world "
-        "frame has y pointing down (gravity) and the floor 1.3 m below the origin. Same options "
-        "and seed give the same sequence.",
+        "frame has y pointing down (gravity) and the floor 1.3 m below the origin. The trajectory "
+        "chooses the scene: 'sweep' and 'loop' film a single 7 x 6 m room, 'tour' walks through "
+        "the 'office', four such rooms at the corners of a 16 x 13 m rectangle joined by 2.4 m "
+        "wide corridors into a ring "
+        "(boxes along the walls; every surface has its own, never repeated, texture). Same "
+        "options and seed give the same sequence.",
         ' ', "1.0");
     TCLAP::UnlabeledValueArg<std::string> argOut("OUT", "output rawlog file", true, "",
                                                  "OUT.rawlog", cmd);
     TCLAP::ValueArg<std::string> argTrajectory(
         "t", "trajectory",
-        "camera path: 'sweep' (hand-held sweep, 150 frames, ~45 cm, 30 deg pan) or 'loop' (1 m "
-        "circle looking outward at the walls, 400 frames, ends where it started)",
-        false, "loop", "sweep|loop", cmd);
+        "camera path: 'sweep' (hand-held sweep in the room, 150 frames, ~45 cm, 30 deg pan), "
+        "'loop' (1 m circle in the room looking outward at the walls, 400 frames, ends where it "
+        "started) or 'tour' (once round the office: 55 m at a walking pace of ~0.5 m/s, "
+        "3300 frames = 110 s, looking partly at the walls, ends where it started; a scale "
+        "benchmark)",
+        false, "loop", "sweep|loop|tour", cmd);
     TCLAP::ValueArg<int> argFrames(
         "n", "frames",
         "number of frames spread over the whole path (0 = the trajectory's default; fewer frames "
@@ -92,6 +100,7 @@ int main(int argc, char** argv) {
     const auto& st = sum.stats;
     std::printf("synthetic-rgbd summary\n");
     std::printf("  trajectory:       %s, seed %u\n", opts.trajectory.c_str(), opts.seed);
+    std::printf("  scene:            %s\n", sum.scene.c_str());
     std::printf("  frames:           %zu (%.2f s at 30 Hz)\n", sum.frames, st.duration);
     std::printf("  path length:      %.3f m, total rotation %.1f deg\n", st.pathLength,
                 st.totalRotationDeg);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <utility>
 
 namespace slamdunk {
 
@@ -108,22 +109,18 @@ mrpt::opengl::CSetOfTexturedTriangles::Ptr texturedObject(const cv::Mat& texture
   return obj;
 }
 
-std::vector<RoomBox> defaultBoxes(const RoomLayout& r) {
-  // Fixed layout: against the walls, at least 0.9 m away from the camera paths of
-  // SyntheticTrajectory (a 1 m circle around the room centre and the sweep near it).
-  const double f = r.floorY;
-  std::vector<RoomBox> b = {
-      {r.xMax - 0.6, 1.6, 0.8, 0.9, 0.6, 10, f},  {r.xMax - 0.5, -0.8, 0.6, 0.5, 0.7, -15, f},
-      {r.xMin + 0.5, 0.5, 0.7, 1.1, 0.6, 5, f},   {r.xMin + 0.6, -1.8, 0.9, 0.45, 0.6, 30, f},
-      {0.8, r.zMax - 0.5, 1.2, 0.75, 0.5, 0, f},  {-1.1, r.zMax - 0.45, 0.5, 0.5, 0.5, 20, f},
-      {0.3, r.zMin + 0.5, 0.8, 0.6, 0.6, -8, f},  {-1.4, r.zMin + 0.35, 0.4, 1.3, 0.4, 0, f},
-      {1.9, r.zMin + 0.6, 0.5, 0.35, 0.5, 40, f}, {r.xMin + 0.6, 2.2, 0.6, 0.7, 0.6, -25, f},
-  };
-  // Smaller boxes standing on top of others.
-  b.push_back({0.9, r.zMax - 0.5, 0.4, 0.3, 0.35, 25, f - 0.75});
-  b.push_back({r.xMax - 0.6, 1.6, 0.35, 0.25, 0.3, -20, f - 0.9});
-  return b;
+/// Texture size along a surface `length` metres long: the smallest power of two (MRPT pads
+/// other sizes) with texels no larger than `metresPerTexel`, up to 8192 (28 m of wall).
+int texelsFor(double length, double metresPerTexel) {
+  int n = 64;
+  while (n < 8192 && n * metresPerTexel < length) n *= 2;
+  return n;
 }
+
+/// About 3 mm per texel on walls and floors, finer than a VGA pixel at the usual 1.5-3 m. The
+/// ceiling is seen from further away and less often: half as fine is enough.
+constexpr double kTexelMetres = 0.0035;
+constexpr double kCeilingTexelMetres = 2 * kTexelMetres;
 
 void addBox(mrpt::opengl::COpenGLScene& scene, const RoomBox& box, const cv::Mat& atlas) {
   // Texture atlas of 3 x 2 cells, one per visible face (the bottom one is never seen).
@@ -199,38 +196,46 @@ cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed) {
 SyntheticScene::~SyntheticScene() = default;
 
 SyntheticScene::SyntheticScene(unsigned seed, bool withCeiling)
-    : scene_(mrpt::opengl::COpenGLScene::Create()) {
-  const RoomLayout& r = layout_;
+    : SyntheticScene(FloorPlan::room(), seed, withCeiling) {}
+
+SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
+    : plan_(std::move(plan)), scene_(mrpt::opengl::COpenGLScene::Create()) {
   auto& scene = *scene_;
   scene.getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(0, 0, 0));
   uint64_t textureId = uint64_t(seed) << 16;  // one texture seed per surface
 
-  const float x0 = float(r.xMin), x1 = float(r.xMax), z0 = float(r.zMin), z1 = float(r.zMax);
-  const float yf = float(r.floorY), yc = float(r.ceilingY);
-  // Walls: texture rows run downwards (+y) and columns to the right as seen from inside the
-  // room, so text on the walls reads normally. Powers of two avoid MRPT padding the textures;
-  // about 3 mm per texel, finer than a VGA pixel at the usual 1.5-3 m.
-  auto wall = [&](const TPoint3Df& topLeft, const TPoint3Df& topRight) {
-    auto obj = texturedObject(makeTexture(2048, 1024, ++textureId));
+  const float yf = float(plan_.floorY), yc = float(plan_.ceilingY);
+  const int wallTexelsHigh = texelsFor(plan_.floorY - plan_.ceilingY, kTexelMetres);
+  // Walls: texture rows run downwards (+y) and columns to the right as seen from the free
+  // space, so text on the walls reads normally.
+  for (const auto& w : plan_.walls) {
+    auto obj = texturedObject(
+        makeTexture(texelsFor(w.length(), kTexelMetres), wallTexelsHigh, ++textureId));
+    const TPoint3Df topLeft(float(w.x0), yc, float(w.z0)), topRight(float(w.x1), yc, float(w.z1));
     addQuad(*obj, topLeft, topRight, {topRight.x, yf, topRight.z}, {topLeft.x, yf, topLeft.z});
     scene.insert(obj);
+  }
+  // Floors and ceilings: texture columns along +x; rows along -z on the floor, +z above.
+  auto areaTexture = [&](const FloorArea& a, double metresPerTexel) {
+    return makeTexture(texelsFor(a.xMax - a.xMin, metresPerTexel),
+                       texelsFor(a.zMax - a.zMin, metresPerTexel), ++textureId);
   };
-  wall({x0, yc, z1}, {x1, yc, z1});  // far wall (+z), seen looking along +z
-  wall({x1, yc, z0}, {x0, yc, z0});  // near wall (-z)
-  wall({x1, yc, z1}, {x1, yc, z0});  // +x wall
-  wall({x0, yc, z0}, {x0, yc, z1});  // -x wall
-
-  auto floor = texturedObject(makeTexture(2048, 2048, ++textureId));
-  addQuad(*floor, {x0, yf, z1}, {x1, yf, z1}, {x1, yf, z0}, {x0, yf, z0});
-  scene.insert(floor);
+  for (const auto& a : plan_.areas) {
+    const float x0 = float(a.xMin), x1 = float(a.xMax), z0 = float(a.zMin), z1 = float(a.zMax);
+    auto floor = texturedObject(areaTexture(a, kTexelMetres));
+    addQuad(*floor, {x0, yf, z1}, {x1, yf, z1}, {x1, yf, z0}, {x0, yf, z0});
+    scene.insert(floor);
+  }
   if (withCeiling) {
-    auto ceiling = texturedObject(makeTexture(1024, 1024, ++textureId));
-    addQuad(*ceiling, {x0, yc, z0}, {x1, yc, z0}, {x1, yc, z1}, {x0, yc, z1});
-    scene.insert(ceiling);
+    for (const auto& a : plan_.areas) {
+      const float x0 = float(a.xMin), x1 = float(a.xMax), z0 = float(a.zMin), z1 = float(a.zMax);
+      auto ceiling = texturedObject(areaTexture(a, kCeilingTexelMetres));
+      addQuad(*ceiling, {x0, yc, z0}, {x1, yc, z0}, {x1, yc, z1}, {x0, yc, z1});
+      scene.insert(ceiling);
+    }
   }
 
-  boxes_ = defaultBoxes(r);
-  for (const auto& box : boxes_) addBox(scene, box, makeTexture(1024, 512, ++textureId));
+  for (const auto& box : plan_.boxes) addBox(scene, box, makeTexture(1024, 512, ++textureId));
 }
 
 }  // namespace slamdunk

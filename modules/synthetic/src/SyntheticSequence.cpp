@@ -72,8 +72,12 @@ CameraIntrinsics SyntheticOptions::intrinsics() const {
 }
 
 void SyntheticOptions::validate() const {
-  if (!SyntheticTrajectory::isKnown(trajectory))
-    throw std::invalid_argument("unknown trajectory '" + trajectory + "' (known: sweep, loop)");
+  if (!SyntheticTrajectory::isKnown(trajectory)) {
+    std::string known;
+    for (const auto& name : SyntheticTrajectory::names())
+      known += (known.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("unknown trajectory '" + trajectory + "' (known: " + known + ")");
+  }
   if (frames < 0 || frames == 1)
     throw std::invalid_argument("frames must be 0 (trajectory default) or at least 2, not " +
                                 std::to_string(frames));
@@ -95,7 +99,9 @@ void SyntheticOptions::validate() const {
 SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_(options) {
   options_.validate();
   groundTruth_ = SyntheticTrajectory::generate(options_.trajectory, options_.frames);
-  scene_ = std::make_unique<SyntheticScene>(options_.seed, options_.ceiling);
+  scene_ = std::make_unique<SyntheticScene>(
+      FloorPlan::named(SyntheticTrajectory::sceneOf(options_.trajectory)), options_.seed,
+      options_.ceiling);
   renderer_ = std::make_unique<SyntheticRenderer>(options_.intrinsics(), options_.supersampling);
 }
 
@@ -188,6 +194,7 @@ SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
 
   SyntheticSequence seq(options);  // validates before any file is touched
   sum.frames = seq.size();
+  sum.scene = seq.scene().plan().name;
   sum.stats = SyntheticTrajectory::stats(seq.groundTruth());
 
   AtomicOutput rawlogOut(rawlogPath);
@@ -228,7 +235,7 @@ SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
                      "synthetic RGB-D ground truth: trajectory '" + options.trajectory +
                          "', seed " + std::to_string(options.seed) +
                          " (optical frame T_w_opt, world y down, floor at y = " +
-                         std::to_string(seq.scene().layout().floorY) + ")");
+                         std::to_string(seq.scene().plan().floorY) + ")");
   if (images) images->commit();
   rawlogOut.commit();
   return sum;

@@ -1,7 +1,11 @@
 #include <slamdunk/synthetic/SyntheticTrajectory.h>
 
+#include <slamdunk/synthetic/FloorPlan.h>
+#include <slamdunk/synthetic/RoundedLoop.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 namespace slamdunk {
@@ -54,9 +58,46 @@ Pose loopPose(double s) {
   return cameraPose(position, yaw, pitch, roll);
 }
 
+/// Once round the office's ring of rooms (A, B, C, D, back to A), starting in room A heading for
+/// B. s in [0, 1]; every term is periodic in s, so s = 1 gives the pose at s = 0.
+class TourShape {
+ public:
+  /// Arcs of 2 m: a steady turn through each room (about 15 deg/s at walking pace) that keeps
+  /// well clear of the door jambs.
+  static constexpr double kCornerRadius = 2.0;
+
+  TourShape() : ring_(ringCorners(), kCornerRadius) {}
+
+  Pose operator()(double s) const {
+    const double a = 2 * M_PI * s;
+    // Walking pace varies by +-10% around the mean (five slow surges per lap).
+    const double distance = ring_.length() * (s + 0.1 * std::sin(5 * a) / (2 * M_PI * 5));
+    const RoundedLoop::Point p = ring_.at(distance);
+    // A hand-held camera drifts a few cm sideways of the walking line and bobs a little.
+    const double heading = p.headingDeg * kDeg;
+    const Eigen::Vector2d right(std::cos(heading), -std::sin(heading));
+    const Eigen::Vector2d xz = p.position + 0.03 * std::sin(31 * a) * right;
+    const double y = 0.01 * std::sin(60 * a);
+    // Look to the right of the path, at the ring's outer walls and the boxes along them: straight
+    // down a corridor the view would be a small, distant patch of wall. Swinging between 27 and
+    // 43 degrees keeps every corridor wall in view at a changing angle.
+    const double yaw = p.headingDeg + 35.0 + 8.0 * std::sin(7 * a);
+    const double pitch = 12.0 + 3.0 * std::sin(11 * a + 1.0);
+    const double roll = 2.5 * std::sin(13 * a);
+    return cameraPose(Eigen::Vector3d(xz.x(), y, xz.y()), yaw, pitch, roll);
+  }
+
+ private:
+  static std::vector<Eigen::Vector2d> ringCorners() {
+    const auto c = OfficeLayout{}.roomCentres();
+    return {c.begin(), c.end()};
+  }
+  RoundedLoop ring_;
+};
+
 }  // namespace
 
-std::vector<std::string> SyntheticTrajectory::names() { return {"sweep", "loop"}; }
+std::vector<std::string> SyntheticTrajectory::names() { return {"sweep", "loop", "tour"}; }
 
 bool SyntheticTrajectory::isKnown(const std::string& name) {
   const auto all = names();
@@ -67,7 +108,14 @@ int SyntheticTrajectory::defaultFrames(const std::string& name) {
   // Unknown names are rejected here, so generate() checks them whatever the frame count.
   if (name == "sweep") return 150;
   if (name == "loop") return 400;
-  throw std::invalid_argument("unknown synthetic trajectory '" + name + "' (known: sweep, loop)");
+  if (name == "tour") return 3300;  // 55 m at 0.5 m/s on average
+  throw std::invalid_argument("unknown synthetic trajectory '" + name +
+                              "' (known: sweep, loop, tour)");
+}
+
+std::string SyntheticTrajectory::sceneOf(const std::string& name) {
+  defaultFrames(name);  // throws for an unknown name
+  return name == "tour" ? "office" : "room";
 }
 
 Trajectory SyntheticTrajectory::generate(const std::string& name, int frames, double startTime) {
@@ -76,12 +124,15 @@ Trajectory SyntheticTrajectory::generate(const std::string& name, int frames, do
   if (n < 2)
     throw std::invalid_argument("a synthetic trajectory needs at least 2 frames, not " +
                                 std::to_string(n));
+  std::function<Pose(double)> shape = sweepPose;
+  if (name == "loop") shape = loopPose;
+  if (name == "tour") shape = TourShape();
   Trajectory traj(size_t(n), StampedPose{});
   for (int i = 0; i < n; ++i) {
     const double s = double(i) / (n - 1);
     // Whole microseconds: the TUM file's 6 decimals then hold the stamp exactly.
     traj[i].timestamp = startTime + std::round(i * 1e6 / kFrameRate) * 1e-6;
-    traj[i].pose = name == "sweep" ? sweepPose(s) : loopPose(s);
+    traj[i].pose = shape(s);
   }
   return traj;
 }

@@ -24,9 +24,11 @@ class SyntheticScene;
 class SyntheticRenderer;
 
 struct SyntheticOptions {
-  std::string trajectory = "loop";  ///< see SyntheticTrajectory::names()
-  int frames = 0;                   ///< 0 = the trajectory's default count
-  unsigned seed = 1;                ///< selects the textures (and the depth noise)
+  /// See SyntheticTrajectory::names(); the trajectory also chooses the scene
+  /// (SyntheticTrajectory::sceneOf: "room" for sweep and loop, "office" for tour).
+  std::string trajectory = "loop";
+  int frames = 0;     ///< 0 = the trajectory's default count
+  unsigned seed = 1;  ///< selects the textures (and the depth noise)
   int width = 640, height = 480;
   double fx = 525, fy = 525, cx = 319.5, cy = 239.5;
   double depthNoiseSigma = 0;  ///< metres; Gaussian noise added to valid depth (0 = exact)
@@ -54,8 +56,8 @@ class SyntheticSequence {
   static constexpr const char* kSensorLabel = "SYNTH_RGBD";
   static constexpr double kDepthFactor = 5000.0;  ///< raw depth units per metre (TUM)
 
-  /// Validates the options, builds the room and the renderer. Throws std::invalid_argument for
-  /// bad options, std::runtime_error when no OpenGL context is available.
+  /// Validates the options, builds the trajectory's scene and the renderer. Throws
+  /// std::invalid_argument for bad options, std::runtime_error when no OpenGL context is available.
   explicit SyntheticSequence(const SyntheticOptions& options);
   ~SyntheticSequence();
 
@@ -88,6 +90,7 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> renderSyntheticSequence(
 
 struct SyntheticSequenceSummary {
   size_t frames = 0;
+  std::string scene;  ///< FloorPlan name
   TrajectoryStats stats;
   std::string rawlogPath, groundTruthPath, imagesFolder;
   double renderSeconds = 0;  ///< wall time spent rendering (all frames)

@@ -1,7 +1,8 @@
 #pragma once
-// Named camera trajectories through the SyntheticScene room: optical-frame poses T_w_opt at
-// 30 Hz. The world frame is gravity aligned (y down, floor at y = RoomLayout::floorY), and the
-// camera stays nearly level (a few degrees of roll, a downward pitch) like a hand-held one.
+// Named camera trajectories through the synthetic scenes (FloorPlan): optical-frame poses T_w_opt
+// at 30 Hz. Each trajectory is laid out for one scene (sceneOf()). The world frame is gravity
+// aligned (y down, floor at y = FloorPlan::floorY, 1.3 m below the origin), and the camera
+// stays nearly level (a few degrees of roll, a downward pitch) like a hand-held one.
 
 #include <slamdunk/core/TumTrajectory.h>
 
@@ -30,10 +31,19 @@ class SyntheticTrajectory {
   ///   forward while panning 30 degrees, eased in and out, facing the +z wall and its boxes.
   /// "loop": a closed loop (400 frames, 13.3 s) on a 1 m circle around the room centre, looking
   ///   outward and sideways at the walls, turning 360 degrees; the last pose equals the first.
+  /// Both in the "room" scene.
+  /// "tour": once round the "office" scene's ring of four rooms and corridors (3300 frames,
+  ///   110 s, 55 m): walking pace 0.45-0.55 m/s, 2 m arcs through each room, a few cm of
+  ///   sway and bob, a few degrees of roll and pitch wobble. The camera looks 27-43 degrees to
+  ///   the right of the path, at the outer walls and their boxes rather than down a corridor.
+  ///   A closed loop: the last pose equals the first, and the lap ends where it began.
   static std::vector<std::string> names();
   static bool isKnown(const std::string& name);
   /// Frames used when the caller asks for 0.
   static int defaultFrames(const std::string& name);
+  /// The scene (FloorPlan::named) the trajectory is laid out in: the camera keeps clear of its
+  /// walls and boxes there, and nowhere else. Throws std::invalid_argument for an unknown name.
+  static std::string sceneOf(const std::string& name);
 
   /// Samples the whole shape of trajectory `name` with `frames` poses (0 = default count) at
   /// kFrameRate: fewer frames = a faster camera over the same path. Throws
