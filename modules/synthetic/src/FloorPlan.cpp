@@ -28,14 +28,22 @@ std::vector<RoomBox> roomBoxes(const RoomLayout& r) {
   return b;
 }
 
-/// Boxes of the office, as offsets from a room centre (or any reference point).
+/// Places boxes by their offset from `origin` (x, z): a room centre, or zero for world
+/// coordinates. A box stands on the floor, or `heightAboveFloor` up when it sits on another.
 struct BoxPlacer {
   Eigen::Vector2d origin;
   double floorY;
   RoomBox operator()(double dx, double dz, double sizeX, double sizeY, double sizeZ,
                      double yawDeg = 0, double heightAboveFloor = 0) const {
-    return {origin.x() + dx, origin.y() + dz,          sizeX, sizeY, sizeZ,
-            yawDeg,          floorY - heightAboveFloor};
+    RoomBox box;
+    box.x = origin.x() + dx;
+    box.z = origin.y() + dz;
+    box.sizeX = sizeX;
+    box.sizeY = sizeY;
+    box.sizeZ = sizeZ;
+    box.yawDeg = yawDeg;
+    box.baseY = floorY - heightAboveFloor;
+    return box;
   }
 };
 
