@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <TestData.h>
+#include "KeypointSpread.h"
 
 #include <algorithm>
 #include <cmath>
@@ -293,32 +294,23 @@ TEST(SyntheticSequence, TourFramesSeeTexturedSurfacesEverywhere) {
   o.trajectory = "tour";
   SyntheticSequence seq(o);
   EXPECT_EQ(seq.scene().plan().name, "office");
-  auto orb = cv::ORB::create(20000);
   for (int k = 0; k < 6; ++k) {
     const size_t i = (2 * k + 1) * seq.size() / 12;
-    cv::Mat bgr, depth, grey;
+    cv::Mat bgr, depth;
     seq.renderImages(i, bgr, depth);
     const double valid = double(cv::countNonZero(depth > 0)) / depth.total();
     double nearest = 0, farthest = 0;
     cv::minMaxLoc(depth, &nearest, &farthest, nullptr, nullptr, depth > 0);
-    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-    std::vector<cv::KeyPoint> kps;
-    orb->detect(grey, kps);
-    bool cells[4][4] = {};
-    for (const auto& kp : kps)
-      cells[std::min(3, int(kp.pt.y * 4 / grey.rows))][std::min(3, int(kp.pt.x * 4 / grey.cols))] =
-          true;
-    int occupied = 0;
-    for (auto& row : cells) occupied += int(std::count(row, row + 4, true));
+    const test::KeypointSpread spread = test::keypointSpread(bgr);
     const Eigen::Vector3d p = seq.groundTruth()[i].pose.translation();
     std::printf(
         "[ tour frame ] %zu at (%.1f, %.1f): %.1f%% valid depth, %.2f-%.2f m, %zu ORB "
         "keypoints, %d/16 cells\n",
-        i, p.x(), p.z(), 100 * valid, nearest, farthest, kps.size(), occupied);
+        i, p.x(), p.z(), 100 * valid, nearest, farthest, spread.keypoints, spread.occupiedCells);
     EXPECT_GE(valid, 0.9) << "frame " << i;
     EXPECT_GE(nearest, 0.3) << "frame " << i;
-    EXPECT_GT(kps.size(), 300u) << "frame " << i;
-    EXPECT_GE(occupied, 12) << "frame " << i;
+    EXPECT_GT(spread.keypoints, 300u) << "frame " << i;
+    EXPECT_GE(spread.occupiedCells, 12) << "frame " << i;
   }
 }
 

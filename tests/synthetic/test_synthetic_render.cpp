@@ -10,6 +10,8 @@
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfTexturedTriangles.h>
 
+#include "KeypointSpread.h"
+
 #include <gtest/gtest.h>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -298,26 +300,17 @@ TEST(KinectDepth, NoiseGrowsWithSquaredDepthOnTheDisparityLattice) {
 }
 
 TEST(SyntheticSequence, TexturesGiveManyWellSpreadKeypoints) {
-  auto orb = cv::ORB::create(20000);  // no cap in practice: count what the image offers
   for (const auto& [name, frames] : std::vector<std::pair<std::string, std::vector<size_t>>>{
            {"sweep", {0, 75, 149}}, {"loop", {0, 100, 200, 300}}}) {
     SyntheticSequence seq(optionsFor(name));
     for (size_t i : frames) {
-      cv::Mat bgr, depth, grey;
+      cv::Mat bgr, depth;
       seq.renderImages(i, bgr, depth);
-      cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-      std::vector<cv::KeyPoint> kps;
-      orb->detect(grey, kps);
-      bool cells[4][4] = {};
-      for (const auto& k : kps)
-        cells[std::min(3, int(k.pt.y * 4 / grey.rows))][std::min(3, int(k.pt.x * 4 / grey.cols))] =
-            true;
-      int occupied = 0;
-      for (auto& row : cells) occupied += int(std::count(row, row + 4, true));
+      const test::KeypointSpread spread = test::keypointSpread(bgr);
       std::printf("[ keypoints ] %s frame %zu: %zu ORB keypoints, %d/16 cells\n", name.c_str(), i,
-                  kps.size(), occupied);
-      EXPECT_GT(kps.size(), 300u) << name << " frame " << i;
-      EXPECT_GE(occupied, 12) << name << " frame " << i;
+                  spread.keypoints, spread.occupiedCells);
+      EXPECT_GT(spread.keypoints, 300u) << name << " frame " << i;
+      EXPECT_GE(spread.occupiedCells, 12) << name << " frame " << i;
     }
   }
 }
