@@ -6,7 +6,7 @@ namespace slamdunk::live {
 
 LatestFrameQueue::LatestFrameQueue(size_t capacity) : capacity_(std::max<size_t>(1, capacity)) {}
 
-bool LatestFrameQueue::push(FramePtr frame) {
+bool LatestFrameQueue::push(FramePtr frame, TimePoint grabbed) {
   bool dropped = false;
   {
     std::lock_guard lock(mutex_);
@@ -15,17 +15,18 @@ bool LatestFrameQueue::push(FramePtr frame) {
       ++dropped_;
       dropped = true;
     }
-    frames_.push_back(std::move(frame));
+    frames_.emplace_back(std::move(frame), grabbed);
   }
   ready_.notify_one();
   return dropped;
 }
 
-LatestFrameQueue::FramePtr LatestFrameQueue::pop() {
+LatestFrameQueue::FramePtr LatestFrameQueue::pop(TimePoint* grabbed) {
   std::unique_lock lock(mutex_);
   ready_.wait(lock, [&] { return !frames_.empty() || closed_; });
   if (frames_.empty()) return nullptr;
-  FramePtr f = std::move(frames_.front());
+  FramePtr f = std::move(frames_.front().first);
+  if (grabbed) *grabbed = frames_.front().second;
   frames_.pop_front();
   return f;
 }

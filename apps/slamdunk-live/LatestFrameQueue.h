@@ -5,6 +5,7 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -14,14 +15,17 @@ namespace slamdunk::live {
 class LatestFrameQueue {
  public:
   using FramePtr = mrpt::obs::CObservation3DRangeScan::Ptr;
+  using TimePoint = std::chrono::steady_clock::time_point;
 
   /// capacity >= 1 frames may wait; 1 = strictly the latest frame.
   explicit LatestFrameQueue(size_t capacity);
 
   /// Never blocks. Returns true if the oldest waiting frame had to be dropped to make room.
-  bool push(FramePtr frame);
-  /// Blocks until a frame is waiting (returns it) or the queue is closed and empty (nullptr).
-  FramePtr pop();
+  /// `grabbed`: when the frame was received, for its latency from grab to pose.
+  bool push(FramePtr frame, TimePoint grabbed = std::chrono::steady_clock::now());
+  /// Blocks until a frame is waiting (returns it, and when it was grabbed if asked) or the
+  /// queue is closed and empty (nullptr).
+  FramePtr pop(TimePoint* grabbed = nullptr);
   /// No more frames will come: pop() returns what is left, then nullptr.
   void close();
   size_t dropped() const;
@@ -30,7 +34,7 @@ class LatestFrameQueue {
   const size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable ready_;
-  std::deque<FramePtr> frames_;
+  std::deque<std::pair<FramePtr, TimePoint>> frames_;
   size_t dropped_ = 0;
   bool closed_ = false;
 };

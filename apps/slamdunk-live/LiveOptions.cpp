@@ -44,6 +44,8 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     // (whose default says false, for offline runs) and before the overrides, so an explicit
     // [pipeline.slam] optimizer_thread = false still wins.
     o.slam.optimizerThread = true;
+    // Nor for a feature pool: each is handed over as soon as it is ready.
+    o.slam.tracker.poolHandoverFrames = 0;
     o.slam.loadFromConfigFile(*o.config, kPipelinePrefix);
   } catch (const std::exception& e) {
     throw std::runtime_error("configuration file '" + path + "': " + e.what());

@@ -23,7 +23,7 @@ struct LiveOptions {
   std::string iniDir;          ///< relative paths in the INI are relative to this folder
   std::string sourceSection;   ///< section describing the frame source
   std::string pipelineConfig;  ///< resolved path, empty = built-in defaults
-  size_t queueCapacity = 16;   ///< frames waiting for the tracker; the oldest is dropped
+  size_t queueCapacity = 4;    ///< frames waiting for the tracker; the oldest is dropped
   double statusPeriod = 1.0;   ///< s between status lines (0 = none)
   double openTimeout = 15.0;   ///< s allowed for the source to open
   double frameTimeout = 10.0;  ///< s without a frame from a camera before giving up

@@ -61,10 +61,11 @@ void LivePipeline::grabberLoop() {
     while (!stop_) {
       auto frame = source_.next(stop_);
       if (!frame) break;
-      if (received_ == 0) firstFrame_ = Clock::now().time_since_epoch().count();
+      const auto grabbed = Clock::now();
+      if (received_ == 0) firstFrame_ = grabbed.time_since_epoch().count();
       ++received_;
       if (recorder_) recorder_->add(*frame);
-      queue_.push(std::move(frame));  // drops (and counts) the oldest when tracking lags
+      queue_.push(std::move(frame), grabbed);  // drops (and counts) the oldest when tracking lags
       if (maxFrames_ && received_ >= maxFrames_) break;
     }
   } catch (const std::exception& e) {
@@ -76,8 +77,15 @@ void LivePipeline::grabberLoop() {
 }
 
 void LivePipeline::trackingLoop() {
-  while (auto frame = queue_.pop()) {
+  Clock::time_point grabbed;
+  while (auto frame = queue_.pop(&grabbed)) {
     const TrackingResult r = slam_.process(*frame);
+    const double latencyMs =
+        std::chrono::duration<double, std::milli>(Clock::now() - grabbed).count();
+    {
+      std::lock_guard lock(mutex_);
+      latenciesMs_.push_back(latencyMs);
+    }
     frame.reset();  // free the images before waiting for the next frame
     ++processed_;
     if (r.status == TrackingStatus::Lost)
@@ -104,6 +112,11 @@ LiveCounters LivePipeline::counters() const {
   if (first && last > first)
     c.activeSeconds = std::chrono::duration<double>(Clock::duration(last - first)).count();
   return c;
+}
+
+std::vector<double> LivePipeline::latenciesMs() const {
+  std::lock_guard lock(mutex_);
+  return latenciesMs_;
 }
 
 std::string LivePipeline::error() const {

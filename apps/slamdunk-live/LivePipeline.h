@@ -15,6 +15,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace slamdunk::live {
 
@@ -46,6 +47,8 @@ class LivePipeline {
   LiveCounters counters() const;
   /// The source's error that ended the run early (empty if it ended normally).
   std::string error() const;
+  /// Per processed frame: milliseconds from its grab to its pose (queueing included).
+  std::vector<double> latenciesMs() const;
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -65,10 +68,11 @@ class LivePipeline {
   std::atomic<Clock::rep> firstFrame_{0}, lastProcessed_{0};  ///< Clock ticks, 0 = not yet
 
   enum class OpenState { Pending, Open, Failed };
-  mutable std::mutex mutex_;  // guards openState_, error_
+  mutable std::mutex mutex_;  // guards openState_, error_, latenciesMs_
   std::condition_variable openChanged_;
   OpenState openState_ = OpenState::Pending;
   std::string error_;
+  std::vector<double> latenciesMs_;
 
   std::thread grabber_, tracker_;
 };

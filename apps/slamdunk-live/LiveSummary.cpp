@@ -11,6 +11,7 @@ namespace {
 // Timing statistics share the evaluation module's conventions (numpy's median).
 double median(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).median; }
 double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
+double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p95; }
 double fps(size_t frames, double seconds) { return seconds > 0 ? frames / seconds : 0; }
 }  // namespace
 
@@ -23,6 +24,8 @@ void printLiveSummary(const LiveFigures& f, bool json) {
         "{\n  \"frames_received\": %zu, \"frames_processed\": %zu, \"frames_dropped\": "
         "%zu,\n",
         c.received, c.processed, c.dropped);
+    std::printf("  \"latency_ms_p50\": %.3f, \"latency_ms_p95\": %.3f, \"latency_ms_max\": %.3f,\n",
+                median(f.latenciesMs), p95(f.latenciesMs), maxOf(f.latenciesMs));
     std::printf(
         "  \"tracked\": %zu, \"lost\": %zu, \"tracked_depth_only\": %zu, \"keyframes\": %zu, "
         "\"optimizations\": %zu, \"loop_closures\": %zu,\n",
@@ -34,9 +37,9 @@ void printLiveSummary(const LiveFigures& f, bool json) {
         fps(c.received, c.activeSeconds), fps(c.processed, c.activeSeconds), c.activeSeconds,
         f.wallSeconds);
     std::printf(
-        "  \"ms_tracking_median\": %.3f, \"ms_tracking_max\": %.3f, "
+        "  \"ms_tracking_median\": %.3f, \"ms_tracking_p95\": %.3f, \"ms_tracking_max\": %.3f, "
         "\"ms_optimization_median\": %.3f, \"interrupted\": %s",
-        median(trackingMs), maxOf(trackingMs), median(f.stats.optimizationMs),
+        median(trackingMs), p95(trackingMs), maxOf(trackingMs), median(f.stats.optimizationMs),
         f.interrupted ? "true" : "false");
     if (f.recorded)
       std::printf(",\n  \"recorded\": %zu, \"record_skipped\": %zu", *f.recorded,
@@ -52,6 +55,8 @@ void printLiveSummary(const LiveFigures& f, bool json) {
   std::printf("slamdunk-live summary%s\n", f.interrupted ? " (interrupted)" : "");
   std::printf("  frames:        %zu received, %zu processed, %zu dropped (tracker behind)\n",
               c.received, c.processed, c.dropped);
+  std::printf("  latency:       grab to pose %.1f ms median, %.1f p95, %.1f max\n",
+              median(f.latenciesMs), p95(f.latenciesMs), maxOf(f.latenciesMs));
   std::printf("  tracking:      %zu tracked (%zu by depth alone), %zu lost\n", c.tracked,
               f.stats.trackedDepthOnly, c.lost);
   for (const auto& why : f.stats.lostReasons) std::printf("    lost because: %s\n", why.c_str());
@@ -62,9 +67,9 @@ void printLiveSummary(const LiveFigures& f, bool json) {
       f.stats.loopClosures);
   std::printf(
       "  speed:         %.1f frames/s received, %.1f processed over %.2f s; tracking "
-      "%.1f ms/frame (median), %.1f (max)\n",
+      "%.1f ms/frame (median), %.1f (p95), %.1f (max)\n",
       fps(c.received, c.activeSeconds), fps(c.processed, c.activeSeconds), c.activeSeconds,
-      median(trackingMs), maxOf(trackingMs));
+      median(trackingMs), p95(trackingMs), maxOf(trackingMs));
   if (f.recorded)
     std::printf("  recorded:      %zu frames (%zu skipped: disk too slow)\n", *f.recorded,
                 f.recordSkipped.value_or(0));

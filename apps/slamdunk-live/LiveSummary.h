@@ -17,7 +17,8 @@ struct LiveAte {
 struct LiveFigures {
   LiveCounters counters;
   SlamStatistics stats;
-  double wallSeconds = 0;  ///< whole run, opening the source included
+  std::vector<double> latenciesMs;  ///< per processed frame, grab to pose
+  double wallSeconds = 0;           ///< whole run, opening the source included
   bool interrupted = false;
   std::string sourceError;
   std::optional<size_t> recorded, recordSkipped;

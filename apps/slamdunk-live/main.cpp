@@ -160,6 +160,7 @@ int main(int argc, char** argv) {
     LiveFigures fig;
     fig.counters = pipeline->counters();
     fig.sourceError = pipeline->error();
+    fig.latenciesMs = pipeline->latenciesMs();
     fig.interrupted = stopping;
     pipeline.reset();
     if (fig.counters.processed == 0 && !fig.sourceError.empty())

@@ -21,6 +21,9 @@ namespace {
 double median(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).median; }
 double mean(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).mean; }
 double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
+double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p95; }
+double p99(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p99; }
+double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
 template <class F>
 std::vector<double> column(const std::vector<StageTimings>& t, F f) {
   std::vector<double> out;
@@ -36,6 +39,11 @@ void printRunSummary(const RunFigures& f, bool json) {
   const auto match = column(s.stageTimings, [](auto& t) { return t.matching; });
   const auto ransac = column(s.stageTimings, [](auto& t) { return t.ransac; });
   const auto total = column(s.stageTimings, [](auto& t) { return t.total; });
+  const auto wait = column(s.stageTimings, [](auto& t) { return t.poolWait; });
+  const size_t waits = std::count_if(wait.begin(), wait.end(), [](double w) { return w > 0.1; });
+  const PoolPreparationStats& prep = s.poolPreparation;
+  size_t largestPool = 0;
+  for (size_t n : prep.windowSizes) largestPool = std::max(largestPool, n);
   const double fps = f.wallSeconds > 0 ? s.frames / f.wallSeconds : 0;
   if (json) {
     std::printf(
@@ -52,6 +60,18 @@ void printRunSummary(const RunFigures& f, bool json) {
         "  \"ms_tracking_median\": %.3f, \"ms_tracking_mean\": %.3f, "
         "\"ms_decode_median\": %.3f,\n",
         median(total), mean(total), median(f.decodeMs));
+    std::printf(
+        "  \"ms_tracking_p95\": %.3f, \"ms_tracking_p99\": %.3f, \"ms_tracking_max\": %.3f,\n",
+        p95(total), p99(total), maxOf(total));
+    std::printf(
+        "  \"pool_windows\": %zu, \"pool_features_max\": %zu, "
+        "\"ms_pool_preparation_median\": %.3f, \"ms_pool_preparation_max\": %.3f, "
+        "\"ms_keyframe_index_median\": %.3f,\n",
+        prep.windowMs.size(), largestPool, median(prep.windowMs), maxOf(prep.windowMs),
+        median(prep.keyframeMs));
+    std::printf(
+        "  \"pool_waits\": %zu, \"ms_pool_wait_total\": %.3f, \"ms_pool_wait_max\": %.3f,\n", waits,
+        sum(wait), maxOf(wait));
     std::printf("  \"ms_optimization_median\": %.3f, \"ms_optimization_max\": %.3f,\n",
                 median(s.optimizationMs), maxOf(s.optimizationMs));
     std::printf(
@@ -84,12 +104,21 @@ void printRunSummary(const RunFigures& f, bool json) {
       s.optimizations, median(s.optimizationMs), maxOf(s.optimizationMs),
       s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
   std::printf("  ms per frame     median   mean\n");
-  std::printf("    decode         %6.2f %6.2f\n", median(f.decodeMs), mean(f.decodeMs));
+  std::printf("    decode wait    %6.2f %6.2f\n", median(f.decodeMs), mean(f.decodeMs));
   std::printf("    features       %6.2f %6.2f\n", median(feat), mean(feat));
   std::printf("    pool update    %6.2f %6.2f\n", median(pool), mean(pool));
   std::printf("    matching       %6.2f %6.2f\n", median(match), mean(match));
   std::printf("    RANSAC         %6.2f %6.2f\n", median(ransac), mean(ransac));
-  std::printf("    tracking total %6.2f %6.2f\n", median(total), mean(total));
+  std::printf("    tracking total %6.2f %6.2f  (p95 %.2f, p99 %.2f, max %.2f)\n", median(total),
+              mean(total), p95(total), p99(total), maxOf(total));
+  std::printf(
+      "  pool preparation: %zu windows (up to %zu features), ms median %.1f max %.1f; new "
+      "keyframe's index ms median %.1f\n",
+      prep.windowMs.size(), largestPool, median(prep.windowMs), maxOf(prep.windowMs),
+      median(prep.keyframeMs));
+  if (waits > 0)
+    std::printf("    hand-over waits: %zu frames, %.1f ms in all, max %.1f\n", waits, sum(wait),
+                maxOf(wait));
   std::printf("  speed:           %.1f frames/s over %.2f s (whole app)\n", fps, f.wallSeconds);
   std::printf("  peak memory:     %.1f MiB\n", f.peakRssKiB / 1024.0);
   if (f.ate)

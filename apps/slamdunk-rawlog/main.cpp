@@ -4,7 +4,7 @@
 #include "RunSummary.h"
 
 #include <slamdunk/core/AtomicOutput.h>
-#include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
@@ -33,13 +33,14 @@ std::string keyframePathFor(const std::string& trajectoryPath) {
 void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r) {
   char buf[512];
   const Eigen::Vector3d t = r.pose.translation();
-  std::snprintf(
-      buf, sizeof(buf),
-      "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%zu,%d,",
-      index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers, r.overlap,
-      r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0, r.reference, r.timings.features,
-      r.timings.pool, r.timings.matching, r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(),
-      r.poolSize, r.depthOnly ? 1 : 0);
+  std::snprintf(buf, sizeof(buf),
+                "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%"
+                "zu,%d,%.3f,",
+                index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers, r.overlap,
+                r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0, r.reference,
+                r.timings.features, r.timings.pool, r.timings.matching, r.timings.ransac,
+                r.timings.total, t.x(), t.y(), t.z(), r.poolSize, r.depthOnly ? 1 : 0,
+                r.timings.poolWait);
   std::string reason = r.lostReason;
   for (char& c : reason)
     if (c == ',') c = ';';
@@ -174,7 +175,7 @@ int main(int argc, char** argv) {
       frameLog.open(frameLogOut->tempPath());
       frameLog << "index,timestamp,status,features,matches,inliers,overlap,new_keyframe,"
                   "keyframe_id,loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,"
-                  "ms_total,tx,ty,tz,pool_size,depth_only,lost_reason\n";
+                  "ms_total,tx,ty,tz,pool_size,depth_only,ms_pool_wait,lost_reason\n";
     }
     std::shared_ptr<KeyframeGraph> startMap;
     if (argLoadMap.isSet()) {
@@ -184,7 +185,8 @@ int main(int argc, char** argv) {
                      argLoadMap.getValue().c_str(), startMap->keyframeCount(),
                      startMap->edgeCount());
     }
-    RawlogReader reader(argIn.getValue());
+    // Decoded a few frames ahead on a thread of its own (deterministic: same frames, same order).
+    PrefetchingRawlogReader reader(argIn.getValue());
     SlamSystem slam(options, startMap);
     RunFigures fig;
     const auto start = std::chrono::steady_clock::now();
@@ -203,7 +205,6 @@ int main(int argc, char** argv) {
       }
       if (!obs) break;
       if (index++ < argFirst.getValue()) continue;
-      obs->load();
       const double decodeMs = msSince(t);
       const TrackingResult r = slam.process(*obs);
       obs->unload();

@@ -75,6 +75,12 @@ TEST(ErrorStatistics, MatchesNumpyConventions) {
   EXPECT_DOUBLE_EQ(s.min, 1);
   EXPECT_DOUBLE_EQ(s.max, 4);
   EXPECT_DOUBLE_EQ(ErrorStatistics::compute({5, 1, 3}).median, 3);
+  // numpy.percentile({1..4}, 95) = 1 + 0.95 * 3 (linear between ranks).
+  EXPECT_DOUBLE_EQ(s.p95, 3.85);
+  EXPECT_DOUBLE_EQ(s.p99, 3.97);
+  std::vector<double> hundred;
+  for (int i = 100; i >= 1; --i) hundred.push_back(i);
+  EXPECT_DOUBLE_EQ(ErrorStatistics::compute(hundred).p95, 95.05);
 }
 
 TEST(TrajectoryMetrics, SyntheticGroundTruthAgainstItselfTransformed) {

@@ -62,6 +62,13 @@ double translationDistance(const Pose& a, const Pose& b) {
   return (a.translation() - b.translation()).norm();
 }
 
+Pose orthonormalized(const Pose& p) {
+  Pose out = Pose::Identity();
+  out.linear() = Eigen::Quaterniond(p.linear()).normalized().toRotationMatrix();
+  out.translation() = p.translation();
+  return out;
+}
+
 bool isValidPose(const Pose& p) {
   if (!p.matrix().allFinite()) return false;
   const Eigen::Matrix3d R = p.linear();

@@ -76,6 +76,15 @@ ErrorStatistics ErrorStatistics::compute(std::vector<double> values) {
   s.std = std::sqrt(var / n);
   s.min = *std::min_element(values.begin(), values.end());
   s.max = *std::max_element(values.begin(), values.end());
+  std::sort(values.begin(), values.end());
+  auto percentile = [&](double q) {
+    const double rank = q / 100.0 * (n - 1);
+    const std::size_t lo = static_cast<std::size_t>(rank);
+    const std::size_t hi = std::min(lo + 1, values.size() - 1);
+    return values[lo] + (rank - lo) * (values[hi] - values[lo]);
+  };
+  s.p95 = percentile(95);
+  s.p99 = percentile(99);
   s.median = medianOf(std::move(values));
   return s;
 }

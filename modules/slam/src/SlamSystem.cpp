@@ -146,7 +146,9 @@ Trajectory SlamSystem::keyframeTrajectory() const {
 
 SlamStatistics SlamSystem::statistics() const {
   std::lock_guard lock(statsMutex_);
-  return stats_;
+  SlamStatistics s = stats_;
+  s.poolPreparation = tracker_.localMap().statistics();
+  return s;
 }
 
 }  // namespace slamdunk

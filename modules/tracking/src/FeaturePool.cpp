@@ -1,18 +1,15 @@
 #include <slamdunk/tracking/DepthNoiseModel.h>
 #include <slamdunk/tracking/FeaturePool.h>
 
+#include <nanoflann.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/flann.hpp>
 
+#include <algorithm>
 #include <cmath>
-#include <cstdlib>
+#include <cstring>
 
 namespace slamdunk {
-
-FeaturePool::FeaturePool(FeaturePoolOptions options) : options_(options) {}
-FeaturePool::~FeaturePool() = default;
-FeaturePool::FeaturePool(FeaturePool&&) noexcept = default;
-FeaturePool& FeaturePool::operator=(FeaturePool&&) noexcept = default;
 
 namespace {
 bool insideFrustum(const Eigen::Vector3d& pc, const CameraIntrinsics& K,
@@ -22,100 +19,256 @@ bool insideFrustum(const Eigen::Vector3d& pc, const CameraIntrinsics& K,
   const double mu = o.frustumMargin * K.width, mv = o.frustumMargin * K.height;
   return uv.x() >= -mu && uv.x() < K.width + mu && uv.y() >= -mv && uv.y() < K.height + mv;
 }
+
 }  // namespace
 
-void FeaturePool::build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active,
-                        const Pose& center, const CameraIntrinsics& K) {
-  features_.clear();
-  keyframes_ = active;
-  index_.reset();
-  descriptors_ = cv::Mat();
-  const Pose worldToCenter = center.inverse();
+PoolIndexType poolIndexTypeFromString(const std::string& name) {
+  if (name == "flann") return PoolIndexType::Flann;
+  if (name == "nanoflann") return PoolIndexType::Nanoflann;
+  if (name == "exact") return PoolIndexType::Exact;
+  throw std::invalid_argument("pool_index = '" + name + "' (choose flann, nanoflann or exact)");
+}
+
+std::string toString(PoolIndexType t) {
+  switch (t) {
+    case PoolIndexType::Flann:
+      return "flann";
+    case PoolIndexType::Nanoflann:
+      return "nanoflann";
+    case PoolIndexType::Exact:
+      return "exact";
+  }
+  return "?";
+}
+
+/// nanoflann's view of the descriptor rows, and its tree over them.
+struct PoolPart::NanoflannIndex {
+  struct Rows {
+    const cv::Mat& m;
+    size_t kdtree_get_point_count() const { return static_cast<size_t>(m.rows); }
+    float kdtree_get_pt(size_t i, size_t d) const { return m.ptr<float>(static_cast<int>(i))[d]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Rows>, Rows,
+                                                   -1, uint32_t>;
+  Rows rows;
+  Tree tree;
+  explicit NanoflannIndex(const cv::Mat& m)
+      : rows{m}, tree(m.cols, rows, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+    tree.buildIndex();
+  }
+};
+
+PoolSnapshot PoolSnapshot::of(const KeyframeGraph& graph, const std::vector<KeyframeId>& ids) {
+  PoolSnapshot s;
+  s.keyframes.reserve(ids.size());
+  s.poses.reserve(ids.size());
+  for (KeyframeId id : ids) {
+    s.keyframes.push_back(graph.keyframe(id));
+    s.poses.push_back(graph.pose(id));
+  }
+  return s;
+}
+
+PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& options) {
   const DepthNoiseModel noise;
-  std::vector<cv::Mat> rows;
-  for (KeyframeId id : active) {
-    const KeyframePtr kf = graph.keyframe(id);
-    const Pose T = graph.pose(id);
-    const FeatureSet& fs = kf->features;
+  const Pose worldToCenter =
+      snapshot.frustum ? snapshot.frustum->first.inverse() : Pose::Identity();
+  const bool filter = snapshot.frustum && options.frustumFilter;
+  std::vector<const float*> rowsF;
+  std::vector<const uint8_t*> rowsB;
+  int cols = 0, type = -1;
+  for (size_t k = 0; k < snapshot.keyframes.size(); ++k) {
+    const Keyframe& kf = *snapshot.keyframes[k];
+    const Pose& T = snapshot.poses[k];
+    const FeatureSet& fs = kf.features;
+    if (fs.size() == 0) continue;
+    if (type < 0) {
+      type = fs.descriptors.type();
+      cols = fs.descriptors.cols;
+    }
+    keyframes_.push_back(kf.id);
+    keyframePoses_.push_back(T);
+    const Eigen::Matrix3d R = T.linear();
     for (size_t i = 0; i < fs.size(); ++i) {
       const Eigen::Vector3d pw = T * fs.points[i];
-      if (options_.frustumFilter && !insideFrustum(worldToCenter * pw, K, options_)) continue;
-      const Eigen::Matrix3d R = T.linear();
-      features_.push_back({id, static_cast<uint32_t>(i), fs.points[i], pw,
+      if (filter && !insideFrustum(worldToCenter * pw, snapshot.frustum->second, options)) continue;
+      features_.push_back({kf.id, static_cast<uint32_t>(i), fs.points[i], pw,
                            R * noise.covariance(fs.points[i]) * R.transpose()});
-      rows.push_back(fs.descriptors.row(static_cast<int>(i)));
+      if (type == CV_8U)
+        rowsB.push_back(fs.descriptors.ptr<uint8_t>(static_cast<int>(i)));
+      else
+        rowsF.push_back(fs.descriptors.ptr<float>(static_cast<int>(i)));
     }
   }
-  if (rows.empty()) return;
-  cv::vconcat(rows, descriptors_);
-  binary_ = descriptors_.type() == CV_8U;
-  // OpenCV's FLANN draws its random tree splits from std::rand: seed it for repeatable runs.
-  std::srand(options_.seed);
-  if (binary_)
+  if (features_.empty()) return;
+  binary_ = type == CV_8U;
+  descriptors_.create(static_cast<int>(features_.size()), cols, binary_ ? CV_8U : CV_32F);
+  const size_t rowBytes = descriptors_.elemSize() * cols;
+  for (int r = 0; r < descriptors_.rows; ++r)
+    std::memcpy(descriptors_.ptr(r), binary_ ? static_cast<const void*>(rowsB[r]) : rowsF[r],
+                rowBytes);
+  if (!binary_ && options.index == PoolIndexType::Nanoflann) {
+    nanoflann_ = std::make_unique<NanoflannIndex>(descriptors_);
+    return;
+  }
+  // OpenCV's FLANN draws its tree splits from cv::theRNG(), which is per thread: seeding it
+  // here makes the trees depend on the snapshot and the seed only, whichever thread builds them.
+  cv::theRNG() = cv::RNG(options.seed);
+  if (!binary_ && options.index == PoolIndexType::Exact)
+    index_ = std::make_unique<cv::flann::Index>(descriptors_, cv::flann::LinearIndexParams());
+  else if (binary_)
     index_ = std::make_unique<cv::flann::Index>(descriptors_, cv::flann::LshIndexParams(12, 16, 2),
                                                 cvflann::FLANN_DIST_HAMMING);
   else
     index_ = std::make_unique<cv::flann::Index>(descriptors_,
-                                                cv::flann::KDTreeIndexParams(options_.kdTrees));
+                                                cv::flann::KDTreeIndexParams(options.kdTrees));
+}
+
+PoolPart::~PoolPart() = default;
+
+const Pose* PoolPart::poseAtBuild(KeyframeId id) const {
+  const auto it = std::find(keyframes_.begin(), keyframes_.end(), id);
+  return it == keyframes_.end() ? nullptr : &keyframePoses_[it - keyframes_.begin()];
+}
+
+void PoolPart::knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& indices,
+                         cv::Mat& distances) const {
+  if (nanoflann_) {
+    indices.create(queries.rows, k, CV_32S);
+    distances.create(queries.rows, k, CV_32F);
+    std::vector<uint32_t> idx(k);
+    std::vector<float> d2(k);
+    for (int q = 0; q < queries.rows; ++q) {
+      const size_t found =
+          nanoflann_->tree.knnSearch(queries.ptr<float>(q), k, idx.data(), d2.data());
+      for (int j = 0; j < k; ++j) {
+        const bool ok = j < static_cast<int>(found);
+        indices.at<int>(q, j) = ok ? static_cast<int>(idx[j]) : -1;
+        distances.at<float>(q, j) = ok ? std::sqrt(std::max(0.f, d2[j])) : 0.f;
+      }
+    }
+    return;
+  }
+  cv::Mat idx, dst;
+  index_->knnSearch(queries, idx, dst, k, cv::flann::SearchParams(checks));
+  indices = idx;
+  if (binary_) {
+    dst.convertTo(distances, CV_32F);
+  } else {
+    // FLANN's L2 distances are squared.
+    distances.create(dst.rows, dst.cols, CV_32F);
+    for (int r = 0; r < dst.rows; ++r)
+      for (int c = 0; c < dst.cols; ++c)
+        distances.at<float>(r, c) = std::sqrt(std::max(0.f, dst.at<float>(r, c)));
+  }
+}
+
+FeaturePool::FeaturePool(FeaturePoolOptions options) : options_(options) {}
+
+void FeaturePool::build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active,
+                        const Pose& center, const CameraIntrinsics& K) {
+  parts_.clear();
+  offsets_.clear();
+  size_ = 0;
+  PoolSnapshot snapshot = PoolSnapshot::of(graph, active);
+  snapshot.frustum = std::make_pair(center, K);
+  append(std::make_shared<const PoolPart>(snapshot, options_));
+}
+
+void FeaturePool::append(std::shared_ptr<const PoolPart> part) {
+  if (!part || part->size() == 0) return;
+  offsets_.push_back(size_);
+  size_ += part->size();
+  parts_.push_back(std::move(part));
+}
+
+const PoolFeature& FeaturePool::feature(size_t i) const {
+  const size_t p = std::upper_bound(offsets_.begin(), offsets_.end(), i) - offsets_.begin() - 1;
+  return parts_[p]->feature(i - offsets_[p]);
+}
+
+std::vector<KeyframeId> FeaturePool::keyframes() const {
+  std::vector<KeyframeId> out;
+  for (const auto& p : parts_) out.insert(out.end(), p->keyframes().begin(), p->keyframes().end());
+  return out;
+}
+
+bool FeaturePool::contains(KeyframeId id) const { return poseAtBuild(id).has_value(); }
+
+std::optional<Pose> FeaturePool::poseAtBuild(KeyframeId id) const {
+  for (const auto& p : parts_)
+    if (const Pose* pose = p->poseAtBuild(id)) return *pose;
+  return std::nullopt;
 }
 
 std::vector<PoolMatch> FeaturePool::match(const cv::Mat& query, double ratioThreshold) const {
   std::vector<PoolMatch> out;
-  if (!index_ || query.empty()) return out;
-  const int k = std::min<int>(options_.neighbours, static_cast<int>(features_.size()));
-  if (k < 2) return out;
+  if (parts_.empty() || query.empty()) return out;
+  const bool binary = parts_.front()->binary();
   cv::Mat queryConv = query;
-  if (!binary_ && query.type() != CV_32F) query.convertTo(queryConv, CV_32F);
+  if (!binary && query.type() != CV_32F) query.convertTo(queryConv, CV_32F);
 
-  cv::Mat indices(query.rows, k, CV_32S), dists(query.rows, k, binary_ ? CV_32S : CV_32F);
+  // Per query, the best candidate over all parts: the nearest feature d0 and its ratio, d1
+  // being the next-closest feature of the same keyframe (a keyframe lives in one part only).
+  struct Best {
+    float d0 = -1;
+    double ratio = 1;
+    uint32_t pool = 0;
+  };
+  std::vector<Best> best(query.rows);
   const int threads = std::max(1, std::min(options_.searchThreads, query.rows));
-  const cv::flann::SearchParams params(options_.checks);
-  // Each stripe searches its own block of queries; results land in disjoint rows.
+  // Each stripe searches its own block of queries; results land in disjoint entries.
   cv::parallel_for_(
       cv::Range(0, threads),
-      [&](const cv::Range& r) {
-        for (int t = r.start; t < r.end; ++t) {
+      [&](const cv::Range& range) {
+        for (int t = range.start; t < range.end; ++t) {
           const int a = query.rows * t / threads, b = query.rows * (t + 1) / threads;
           if (a == b) continue;
-          cv::Mat idx = indices.rowRange(a, b), dst = dists.rowRange(a, b);
-          cv::Mat idxOut, dstOut;
-          index_->knnSearch(queryConv.rowRange(a, b), idxOut, dstOut, k, params);
-          idxOut.copyTo(idx);
-          dstOut.convertTo(dst, dst.type());
+          for (size_t p = 0; p < parts_.size(); ++p) {
+            const PoolPart& part = *parts_[p];
+            const int k = std::min<int>(options_.neighbours, static_cast<int>(part.size()));
+            if (k < 2) continue;
+            cv::Mat indices, dists;
+            part.knnSearch(queryConv.rowRange(a, b), k, options_.checks, indices, dists);
+            for (int q = 0; q < b - a; ++q) {
+              const int* idx = indices.ptr<int>(q);
+              const float* d = dists.ptr<float>(q);
+              if (idx[0] < 0 || idx[0] >= static_cast<int>(part.size())) continue;
+              Best& bq = best[a + q];
+              if (bq.d0 >= 0 && d[0] >= bq.d0) continue;  // an earlier part has a nearer one
+              const KeyframeId kf = part.feature(idx[0]).keyframe;
+              // If no feature of the same keyframe is among the k neighbours, d1 is at least
+              // the k-th distance, which bounds the ratio from above.
+              double d1 = -1;
+              int last = 0;
+              for (int j = 1; j < k; ++j) {
+                if (idx[j] < 0 || idx[j] >= static_cast<int>(part.size())) break;
+                last = j;
+                if (part.feature(idx[j]).keyframe == kf) {
+                  d1 = d[j];
+                  break;
+                }
+              }
+              if (d1 < 0) {
+                if (last == 0) continue;
+                d1 = d[last];
+              }
+              bq.d0 = d[0];
+              bq.ratio = d1 > 0 ? d[0] / d1 : 1.0;
+              bq.pool = static_cast<uint32_t>(offsets_[p] + idx[0]);
+            }
+          }
         }
       },
       threads);
 
-  for (int q = 0; q < query.rows; ++q) {
-    const int* idx = indices.ptr<int>(q);
-    auto distance = [&](int j) {
-      // FLANN's L2 distances are squared; Hamming ones are bit counts.
-      return binary_ ? static_cast<double>(dists.at<int>(q, j))
-                     : std::sqrt(std::max(0.f, dists.at<float>(q, j)));
-    };
-    if (idx[0] < 0 || idx[0] >= static_cast<int>(features_.size())) continue;
-    const KeyframeId kf = features_[idx[0]].keyframe;
-    const double d0 = distance(0);
-    // d1: the next-closest feature of the same keyframe. If none is among the k neighbours,
-    // it is at least as far as the k-th one, which bounds the ratio from above.
-    double d1 = -1;
-    int last = 0;
-    for (int j = 1; j < k; ++j) {
-      if (idx[j] < 0 || idx[j] >= static_cast<int>(features_.size())) break;
-      last = j;
-      if (features_[idx[j]].keyframe == kf) {
-        d1 = distance(j);
-        break;
-      }
-    }
-    if (d1 < 0) {
-      if (last == 0) continue;
-      d1 = distance(last);
-    }
-    const double ratio = d1 > 0 ? d0 / d1 : 1.0;
-    if (ratio < ratioThreshold)
-      out.push_back({static_cast<uint32_t>(q), static_cast<uint32_t>(idx[0]), ratio});
-  }
+  for (int q = 0; q < query.rows; ++q)
+    if (best[q].d0 >= 0 && best[q].ratio < ratioThreshold)
+      out.push_back({static_cast<uint32_t>(q), best[q].pool, best[q].ratio});
   return out;
 }
 

@@ -12,10 +12,26 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
-/// Ground-parallel coordinates: x and z of the world (= first camera's optical frame, y down).
-Eigen::Vector2d groundPosition(const Pose& p) { return {p.translation().x(), p.translation().z()}; }
 const DepthNoiseModel kNoise;
 double depthNoiseVariance(double z) { return kNoise.variance(z); }
+
+/// How many of the inlier matches land in each keyframe.
+std::map<KeyframeId, size_t> inlierCountPerKeyframe(const FeaturePool& pool,
+                                                    const std::vector<PoolMatch>& matches,
+                                                    const std::vector<bool>& inliers) {
+  std::map<KeyframeId, size_t> counts;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (inliers[i]) ++counts[pool.feature(matches[i].pool).keyframe];
+  return counts;
+}
+
+/// The keyframe holding the most inliers (the oldest among equals): the frame's reference.
+KeyframeId dominantKeyframe(const std::map<KeyframeId, size_t>& counts) {
+  KeyframeId best = counts.begin()->first;
+  for (const auto& [id, n] : counts)
+    if (n > counts.at(best)) best = id;
+  return best;
+}
 }  // namespace
 
 const char* toString(TrackingStatus s) {
@@ -35,16 +51,14 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
     : options_(options),
       extractor_(featureOptions),
       policy_(options.keyframes),
-      graph_(std::move(graph)),
-      pool_(options.pool) {
-  if (!graph_) graph_ = std::make_shared<KeyframeGraph>();
+      graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
+      localMap_(options.localMapOptions(), graph_) {
   for (KeyframeId id : graph_->ids()) {
     nextKeyframeId_ = std::max(nextKeyframeId_, id + 1);
     newestKeyframe_ = id;
   }
   if (graph_->keyframeCount() > 0) {
     // Starting from a saved map: the camera is somewhere in it; the first frames relocalize.
-    syncQuadTree();
     lost_ = true;
   }
 }
@@ -57,7 +71,12 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   r.timestamp = frame.timestamp();
   r.pose = lastPose_;
 
+  // Every frame counts for the pools' hand-over, tracked or not.
   auto t = Clock::now();
+  r.timings.poolWait = localMap_.beginFrame();
+  r.timings.pool = msSince(t);
+
+  t = Clock::now();
   FeatureSet features = extractor_.extract(frame);
   r.timings.features = msSince(t);
   r.features = features.size();
@@ -87,17 +106,20 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (mapChanged_.exchange(false) || poolDirty_) {
     // Paper Sec. 4.1: after a keyframe (and its optimization) the window is re-queried
     // around the newest keyframe's current pose.
-    syncQuadTree();
-    rebuildPool(graph_->pose(newestKeyframe_), frame.intrinsics());
+    localMap_.requestWindow(graph_->pose(newestKeyframe_), frame.intrinsics());
+    poolDirty_ = false;
   }
-  r.timings.pool = msSince(t);
+  if (matchingWholeMap_ && !localMap_.windowPending()) matchingWholeMap_ = false;
+  r.timings.pool += msSince(t);
 
   std::vector<PoolMatch> inlierMatches;
   Pose pose;
   const bool startingFromMap = lost_ && framesLost_ == 0;  // a loaded map, nothing tracked yet
   if (!enoughFeatures) r.lostReason = fewFeatures();
+  const FeaturePool& pool =
+      matchingWholeMap_ ? wholeMapPool(frame.intrinsics(), r) : localMap_.pool();
   bool registered = enoughFeatures && !startingFromMap &&
-                    registerFrame(pool_, frame, features, r, inlierMatches, pose);
+                    registerFrame(pool, frame, features, r, inlierMatches, pose);
   if (!registered && enoughFeatures &&
       (startingFromMap ||
        (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
@@ -114,7 +136,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   // every cell, so the cell count would stay near 1 until the alignment fails).
   std::vector<cv::Point2f> inlierPixels, allPixels;
   std::map<KeyframeId, size_t> inliersPerKeyframe;
-  const FeaturePool& usedPool = r.relocalized ? globalPool_ : pool_;
+  const FeaturePool& usedPool = r.relocalized ? globalPool_ : pool;
   for (const PoolMatch& m : inlierMatches) {
     inlierPixels.push_back(features.keypoints[m.query].pt);
     ++inliersPerKeyframe[usedPool.feature(m.pool).keyframe];
@@ -124,21 +146,23 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
   }
 
-  KeyframeId reference = r.depthOnly ? lastDepthReference_ : inliersPerKeyframe.begin()->first;
-  for (const auto& [id, n] : inliersPerKeyframe) {
+  const KeyframeId reference =
+      r.depthOnly ? lastDepthReference_ : dominantKeyframe(inliersPerKeyframe);
+  for (const auto& [id, n] : inliersPerKeyframe)
     if (static_cast<int>(n) >= options_.loopMinInliers) r.matchedKeyframes.push_back(id);
-    if (n > inliersPerKeyframe[reference]) reference = id;
-  }
 
-  bool spawn = !r.relocalized && policy_.shouldSpawn(r.overlap);
-  if (!spawn && !r.relocalized && closesMetricLoop(r.matchedKeyframes)) {
+  // A keyframe is linked through the pool it was matched against, and the overlap only means
+  // something once the newest keyframe's features are in that pool.
+  const bool maySpawn = !r.relocalized && !matchingWholeMap_ && localMap_.includes(newestKeyframe_);
+  bool spawn = maySpawn && policy_.shouldSpawn(r.overlap);
+  if (!spawn && maySpawn && closesMetricLoop(r.matchedKeyframes)) {
     spawn = true;
     r.loopClosure = true;
   }
 
   if (spawn) {
     const KeyframeId id = addKeyframe(frame, std::move(features), pose);
-    linkKeyframe(id, graph_->keyframe(id)->features, inlierMatches);
+    linkKeyframe(id, graph_->keyframe(id)->features, usedPool, inlierMatches);
     // Registered by depth alone, the depth associations are the keyframe's only link.
     if (options_.depthEdges || r.depthOnly) linkKeyframeDepth(id, pose);
     r.newKeyframe = true;
@@ -149,14 +173,14 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   } else {
     r.reference = reference;
     r.poseInReference = graph_->pose(reference).inverse() * pose;
-    if (r.relocalized || translationDistance(pose, windowCenter_) > options_.windowShift) {
+    if (r.relocalized || localMap_.shiftNeeded(pose)) {
       // Paper Sec. 4.1 "Shift": the window follows the camera without a new keyframe (and
       // jumps to wherever relocalization put it).
       t = Clock::now();
-      syncQuadTree();
-      rebuildPool(pose, frame.intrinsics());
+      localMap_.requestWindow(pose, frame.intrinsics());
       r.timings.pool += msSince(t);
     }
+    if (r.relocalized) matchingWholeMap_ = localMap_.windowPending();
   }
   lastMotion_ = lost_ ? std::nullopt : std::optional<Pose>(lastPose_.inverse() * pose);
   lastPose_ = pose;
@@ -259,6 +283,18 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
     lastDepthTerm_ = depthTermFor(frame, pool, matches, ransac.inliers, lastDepthReference_);
     pose = refinePose(pose, pairs, {}, lastDepthTerm_ ? &*lastDepthTerm_ : nullptr);
   }
+  // The pool's world points carry the keyframe poses of its snapshot, which the optimization
+  // may have moved since (a pool is handed over frames after it was asked for). The frame is
+  // measured against its dominant keyframe: keep that relative pose, in today's world.
+  const KeyframeId dominant =
+      dominantKeyframe(inlierCountPerKeyframe(pool, matches, ransac.inliers));
+  if (const auto atBuild = pool.poseAtBuild(dominant)) {
+    const Pose now = graph_->pose(dominant);
+    // Re-projected onto a rotation: keyframe poses feed later corrections, and the rounding
+    // of each product would otherwise compound from keyframe to keyframe.
+    pose = orthonormalized(now * atBuild->inverse() * pose);
+    if (lastDepthTerm_) lastDepthTerm_->worldFromReference = now;
+  }
   r.timings.ransac += msSince(t);
   if (!lost_ && options_.maxTranslationJump > 0 &&
       translationDistance(pose, lastPose_) > options_.maxTranslationJump) {
@@ -279,15 +315,14 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermFor(const RgbdFrame& frame,
                                                         const std::vector<bool>& inliers,
                                                         KeyframeId& reference) const {
   if (options_.depthAlignmentWeight <= 0) return std::nullopt;
-  std::map<KeyframeId, size_t> count;
-  for (size_t i = 0; i < matches.size(); ++i)
-    if (inliers[i]) ++count[pool.feature(matches[i].pool).keyframe];
-  if (count.empty()) return std::nullopt;
-  KeyframeId best = count.begin()->first;
-  for (const auto& [id, n] : count)
-    if (n > count[best]) best = id;
+  const auto counts = inlierCountPerKeyframe(pool, matches, inliers);
+  if (counts.empty()) return std::nullopt;
+  const KeyframeId best = dominantKeyframe(counts);
   std::optional<DepthAlignmentTerm> term = depthTermAgainst(frame, best);
-  if (term) reference = best;
+  if (!term) return term;
+  reference = best;
+  // In the pool's world, like the feature terms it is refined with.
+  if (const auto atBuild = pool.poseAtBuild(best)) term->worldFromReference = *atBuild;
   return term;
 }
 
@@ -313,19 +348,9 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
 
 bool Tracker::relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
                          std::vector<PoolMatch>& inlierMatches, Pose& pose) {
-  auto t = Clock::now();
-  const size_t keyframes = graph_->keyframeCount();
-  if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
-    // No frustum: the camera may be anywhere in the map.
-    FeaturePoolOptions o = options_.pool;
-    o.frustumFilter = false;
-    globalPool_ = FeaturePool(o);
-    globalPool_.build(*graph_, graph_->ids(), Pose::Identity(), frame.intrinsics());
-    globalPoolKeyframes_ = keyframes;
-  }
-  r.timings.pool += msSince(t);
+  const FeaturePool& wholeMap = wholeMapPool(frame.intrinsics(), r);
   const std::string localReason = r.lostReason;
-  if (!registerFrame(globalPool_, frame, features, r, inlierMatches, pose) ||
+  if (!registerFrame(wholeMap, frame, features, r, inlierMatches, pose) ||
       static_cast<int>(r.inliers) < options_.relocalizeMinInliers) {
     r.lostReason = (localReason.empty() ? "" : localReason + "; ") +
                    "not relocalized in the map (" + std::to_string(r.inliers) + " inliers)";
@@ -333,6 +358,22 @@ bool Tracker::relocalize(const RgbdFrame& frame, const FeatureSet& features, Tra
   }
   r.relocalized = true;
   return true;
+}
+
+const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResult& r) {
+  const auto t = Clock::now();
+  const size_t keyframes = graph_->keyframeCount();
+  if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
+    // No frustum: the camera may be anywhere in the map. Built here, not in the background:
+    // only a lost camera needs it.
+    FeaturePoolOptions o = options_.pool;
+    o.frustumFilter = false;
+    globalPool_ = FeaturePool(o);
+    globalPool_.build(*graph_, graph_->ids(), Pose::Identity(), K);
+    globalPoolKeyframes_ = keyframes;
+  }
+  r.timings.pool += msSince(t);
+  return globalPool_;
 }
 
 TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features,
@@ -367,14 +408,12 @@ KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, c
   }
   const KeyframeId id = kf->id;
   graph_->addKeyframe(std::move(kf), pose);
-  const Eigen::Vector2d g = groundPosition(pose);
-  quadTree_.insert(g.x(), g.y(), id);
-  indexedPositions_[id] = g;
+  localMap_.keyframeAdded(id);
   newestKeyframe_ = id;
   return id;
 }
 
-void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
+void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features, const FeaturePool& pool,
                            const std::vector<PoolMatch>& inlierMatches) {
   // Normalised so that a match of two points 1 m away keeps about the paper's weight.
   static const double unitVariance = 2 * kNoise.variance(1.0);
@@ -384,7 +423,7 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features,
   std::map<KeyframeId, Eigen::Matrix3d> relativeRotation;  // other <- new
   std::map<KeyframeId, std::vector<PointMatch>> perKeyframe;
   for (const PoolMatch& m : inlierMatches) {
-    const PoolFeature& f = pool_.feature(m.pool);
+    const PoolFeature& f = pool.feature(m.pool);
     auto other = others.find(f.keyframe);
     if (other == others.end())
       other = others.emplace(f.keyframe, graph_->keyframe(f.keyframe)).first;
@@ -445,27 +484,6 @@ void Tracker::linkKeyframeDepth(KeyframeId id, const Pose& pose) {
     matches.push_back(m);
   }
   graph_->addMatches(lastDepthReference_, id, matches);
-}
-
-void Tracker::syncQuadTree() {
-  for (const auto& [id, pose] : graph_->poses()) {
-    const Eigen::Vector2d g = groundPosition(pose);
-    auto it = indexedPositions_.find(id);
-    if (it != indexedPositions_.end()) {
-      if (it->second == g) continue;
-      quadTree_.remove(it->second.x(), it->second.y(), id);
-    }
-    quadTree_.insert(g.x(), g.y(), id);
-    indexedPositions_[id] = g;
-  }
-}
-
-void Tracker::rebuildPool(const Pose& center, const CameraIntrinsics& K) {
-  const Eigen::Vector2d g = groundPosition(center);
-  std::vector<KeyframeId> active = quadTree_.querySquare(g.x(), g.y(), options_.windowSize);
-  pool_.build(*graph_, active, center, K);
-  windowCenter_ = center;
-  poolDirty_ = false;
 }
 
 bool Tracker::closesMetricLoop(const std::vector<KeyframeId>& matched) const {

@@ -26,11 +26,26 @@ std::string toString(EdgeInformation e) {
   return "?";
 }
 
+LocalMapOptions TrackerOptions::localMapOptions() const {
+  LocalMapOptions o;
+  o.windowSize = windowSize;
+  o.windowShift = windowShift;
+  o.backgroundPreparation = poolInBackground;
+  o.handoverFrames = poolHandoverFrames;
+  o.handoverFeaturesPerFrame = poolHandoverFeaturesPerFrame;
+  o.pool = pool;
+  return o;
+}
+
 void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& section) {
   IniSectionReader r(cfg, section);
   windowSize = r.readDouble("window_size", windowSize);
   windowShift = r.readDouble("window_shift", windowShift);
+  poolInBackground = r.readBool("pool_in_background", poolInBackground);
+  poolHandoverFrames = r.readInt("pool_handover_frames", poolHandoverFrames);
+  poolHandoverFeaturesPerFrame =
+      r.readInt("pool_handover_features_per_frame", poolHandoverFeaturesPerFrame);
   ratioThreshold = r.readDouble("ratio_threshold", ratioThreshold);
   loopHopThreshold = r.readInt("loop_hop_threshold", loopHopThreshold);
   loopMinInliers = r.readInt("loop_min_inliers", loopMinInliers);
@@ -61,6 +76,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthOnly.maxRmsResidual = r.readDouble("depth_only_max_residual", depthOnly.maxRmsResidual);
   depthOnly.minConstraint = r.readDouble("depth_only_min_constraint", depthOnly.minConstraint);
 
+  pool.index = poolIndexTypeFromString(r.readString("pool_index", toString(pool.index)));
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
   pool.neighbours = r.readInt("knn_neighbours", pool.neighbours);
@@ -89,6 +105,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   };
   require(windowSize > 0, "window_size must be > 0");
   require(windowShift >= 0, "window_shift must be >= 0");
+  require(poolHandoverFrames >= 0, "pool_handover_frames must be >= 0");
+  require(poolHandoverFeaturesPerFrame > 0, "pool_handover_features_per_frame must be > 0");
   require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
   require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
   require(keypointScaleSigma >= 0 && std::isfinite(keypointScaleSigma),
@@ -114,6 +132,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& s) const {
   cfg.write(s, "window_size", windowSize);
   cfg.write(s, "window_shift", windowShift);
+  cfg.write(s, "pool_in_background", poolInBackground);
+  cfg.write(s, "pool_handover_frames", poolHandoverFrames);
+  cfg.write(s, "pool_handover_features_per_frame", poolHandoverFeaturesPerFrame);
   cfg.write(s, "ratio_threshold", ratioThreshold);
   cfg.write(s, "loop_hop_threshold", loopHopThreshold);
   cfg.write(s, "loop_min_inliers", loopMinInliers);
@@ -139,6 +160,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);
   cfg.write(s, "depth_only_max_residual", depthOnly.maxRmsResidual);
   cfg.write(s, "depth_only_min_constraint", depthOnly.minConstraint);
+  cfg.write(s, "pool_index", toString(pool.index));
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
   cfg.write(s, "knn_neighbours", pool.neighbours);

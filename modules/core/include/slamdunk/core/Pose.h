@@ -33,6 +33,9 @@ double rotationAngle(const Pose& p);
 double rotationDistance(const Pose& a, const Pose& b);
 double translationDistance(const Pose& a, const Pose& b);
 
+/// The pose with its rotation part projected back onto SO(3) (undoes rounding in products).
+Pose orthonormalized(const Pose& p);
+
 /// True when all entries are finite and the rotation part is orthonormal to 1e-6.
 bool isValidPose(const Pose& p);
 

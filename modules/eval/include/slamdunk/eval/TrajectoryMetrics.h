@@ -17,6 +17,7 @@ namespace slamdunk::eval {
 struct ErrorStatistics {
   std::size_t count = 0;
   double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
+  double p95 = 0, p99 = 0;  ///< percentiles, interpolated linearly between ranks (numpy's)
 
   /// All zeros for an empty list.
   static ErrorStatistics compute(std::vector<double> values);

@@ -35,6 +35,7 @@ struct SlamStatistics {
   double maxOptimizationTranslation = 0;   ///< metres: largest pose change by any optimization
   double maxOptimizationRotationDeg = 0;
   std::vector<std::string> lostReasons;  ///< distinct reasons, first occurrence order
+  PoolPreparationStats poolPreparation;  ///< Local Mapping's background index builds
 };
 
 class SlamSystem {

@@ -1,12 +1,20 @@
 #pragma once
-// The feature pool (paper Sec. 4.1-4.2): descriptors of the active keyframes in one index,
-// matched with the multi-view ratio test (next-closest feature of the *same* keyframe).
+// The feature pool (paper Sec. 4.1-4.2): descriptors of the active keyframes, indexed for
+// approximate nearest-neighbour search and matched with the multi-view ratio test (next-closest
+// feature of the *same* keyframe).
+//
+// A pool is a list of parts, each one index over the features of some keyframes: the window's
+// keyframes in one part, and each keyframe spawned since in a small part of its own. A part is
+// built once, from a snapshot of keyframes and poses (no graph access), so it can be built on
+// any thread and shared by every pool that contains it.
 
 #include <slamdunk/core/CameraIntrinsics.h>
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace cv::flann {
@@ -15,9 +23,19 @@ class Index;
 
 namespace slamdunk {
 
+/// The nearest-neighbour index of a pool part (float descriptors; binary ones always use LSH).
+enum class PoolIndexType {
+  Flann,      ///< OpenCV FLANN randomized KD-trees: approximate, `kdTrees` trees, `checks`
+  Nanoflann,  ///< nanoflann single KD-tree: exact, cheap to build, slow to search in 64-D
+  Exact       ///< brute force (FLANN linear): the reference for accuracy measurements
+};
+PoolIndexType poolIndexTypeFromString(const std::string& name);
+std::string toString(PoolIndexType t);
+
 struct FeaturePoolOptions {
-  int kdTrees = 4;             ///< randomized KD-trees (float descriptors)
-  int checks = 16;             ///< leaves visited per search
+  PoolIndexType index = PoolIndexType::Flann;
+  int kdTrees = 1;             ///< randomized KD-trees (float descriptors)
+  int checks = 64;             ///< descriptors compared per search (FLANN counts points)
   int neighbours = 4;          ///< k of the k-NN search used by the ratio test
   int searchThreads = 2;       ///< the only parallel block of tracking, as in the paper
   bool frustumFilter = true;   ///< keep only features visible from the window centre
@@ -30,7 +48,7 @@ struct PoolFeature {
   KeyframeId keyframe = 0;
   uint32_t index = 0;             ///< feature index within the keyframe
   Eigen::Vector3d pointKeyframe;  ///< in the keyframe's optical frame
-  Eigen::Vector3d pointWorld;     ///< with the keyframe pose at build time
+  Eigen::Vector3d pointWorld;     ///< with the keyframe pose at build time (poseAtBuild)
   Eigen::Matrix3d covarianceWorld = Eigen::Matrix3d::Identity();  ///< depth noise, world frame
 };
 
@@ -40,31 +58,73 @@ struct PoolMatch {
   double ratio = 0;    ///< θ' = d0 / d1
 };
 
-class FeaturePool {
+/// Keyframes and their poses, copied from the graph so that a part can be built off-thread.
+struct PoolSnapshot {
+  std::vector<KeyframePtr> keyframes;
+  std::vector<Pose> poses;  ///< T_world_keyframe, one per keyframe
+  /// Frustum of a camera with intrinsics K at `center` (world pose of its optical frame);
+  /// unset: every feature is kept (a keyframe's own features need no frustum).
+  std::optional<std::pair<Pose, CameraIntrinsics>> frustum;
+
+  static PoolSnapshot of(const KeyframeGraph& graph, const std::vector<KeyframeId>& ids);
+};
+
+/// One index over the features of some keyframes. Immutable once built.
+class PoolPart {
  public:
-  explicit FeaturePool(FeaturePoolOptions options = {});
-  ~FeaturePool();
-  FeaturePool(FeaturePool&&) noexcept;
-  FeaturePool& operator=(FeaturePool&&) noexcept;
-
-  /// Gathers the features of `active` keyframes that lie in the frustum of a camera with
-  /// intrinsics K at `center` (world pose of the optical frame) and indexes them.
-  void build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active, const Pose& center,
-             const CameraIntrinsics& K);
-  /// Matches each query descriptor; keeps matches with θ' < ratioThreshold.
-  std::vector<PoolMatch> match(const cv::Mat& queryDescriptors, double ratioThreshold) const;
-
+  PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& options);
+  ~PoolPart();
   size_t size() const { return features_.size(); }
   const PoolFeature& feature(size_t i) const { return features_[i]; }
   const std::vector<KeyframeId>& keyframes() const { return keyframes_; }
+  /// The keyframe's pose in the snapshot the part was built from (null: not in the part).
+  const Pose* poseAtBuild(KeyframeId id) const;
+  bool binary() const { return binary_; }
+  /// k nearest neighbours of each query row: indices (CV_32S, -1 = none) and distances
+  /// (CV_32F: Euclidean for float descriptors, bit counts for binary ones).
+  void knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& indices,
+                 cv::Mat& distances) const;
 
  private:
-  FeaturePoolOptions options_;
   std::vector<PoolFeature> features_;
   std::vector<KeyframeId> keyframes_;
+  std::vector<Pose> keyframePoses_;  ///< snapshot pose of each of keyframes_
   cv::Mat descriptors_;
   bool binary_ = false;
   std::unique_ptr<cv::flann::Index> index_;
+  struct NanoflannIndex;
+  std::unique_ptr<NanoflannIndex> nanoflann_;
+};
+
+class FeaturePool {
+ public:
+  explicit FeaturePool(FeaturePoolOptions options = {});
+
+  /// Replaces the pool by one part over the features of `active` keyframes that lie in the
+  /// frustum of a camera with intrinsics K at `center` (world pose of the optical frame).
+  void build(const KeyframeGraph& graph, const std::vector<KeyframeId>& active, const Pose& center,
+             const CameraIntrinsics& K);
+  /// Adds a part built elsewhere; indices of the features already in the pool do not change.
+  void append(std::shared_ptr<const PoolPart> part);
+  /// Matches each query descriptor against every part; keeps matches with θ' < ratioThreshold.
+  std::vector<PoolMatch> match(const cv::Mat& queryDescriptors, double ratioThreshold) const;
+
+  size_t size() const { return size_; }
+  const PoolFeature& feature(size_t i) const;
+  /// Keyframes with features in the pool, in the order of the parts.
+  std::vector<KeyframeId> keyframes() const;
+  bool contains(KeyframeId id) const;
+  /// The pose the keyframe had when its part was built: world points of the pool, and a pose
+  /// registered against them, are in that world, which optimization may have moved since.
+  std::optional<Pose> poseAtBuild(KeyframeId id) const;
+  const std::vector<std::shared_ptr<const PoolPart>>& parts() const { return parts_; }
+  const FeaturePoolOptions& options() const { return options_; }
+
+ private:
+  FeaturePoolOptions options_;
+  std::vector<std::shared_ptr<const PoolPart>> parts_;
+  std::vector<size_t> offsets_;  ///< index of each part's first feature in the pool
+  size_t size_ = 0;
 };
 
 }  // namespace slamdunk

@@ -1,7 +1,9 @@
 #pragma once
-// Camera tracking (paper Sec. 4.1, 4.2, 4.4): features of each frame are matched against the
-// feature pool of the active keyframe window, the pose comes from RANSAC absolute orientation,
-// and the overlap policy or the metric-loop test decides when a frame becomes a keyframe.
+// Camera tracking (paper Sec. 4.2, 4.4): features of each frame are matched against the feature
+// pool that Local Mapping (LocalMap, Sec. 4.1) keeps for the active keyframe window, the pose
+// comes from RANSAC absolute orientation, and the overlap policy or the metric-loop test decides
+// when a frame becomes a keyframe. Relocalization against the whole map and registration by
+// depth alone take over when the window's features do not register a frame.
 //
 // The tracker never optimizes: it reports new keyframes, and whoever runs the optimizer (in the
 // same or another thread) calls notifyMapChanged() afterwards.
@@ -10,8 +12,8 @@
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/LocalMap.h>
 #include <slamdunk/tracking/PoseRefinement.h>
-#include <slamdunk/tracking/QuadTree.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
 #include <atomic>
@@ -29,6 +31,7 @@ const char* toString(TrackingStatus s);
 /// Milliseconds spent in each stage for one frame.
 struct StageTimings {
   double features = 0, pool = 0, matching = 0, ransac = 0, total = 0;
+  double poolWait = 0;  ///< of `pool`: waiting for a pool's hand-over (offline, deterministic)
 };
 
 struct TrackingResult {
@@ -57,13 +60,14 @@ class Tracker {
   ~Tracker();
 
   TrackingResult process(const RgbdFrame& frame);
-  /// Keyframe poses changed (local optimization): re-query the window around the newest
-  /// keyframe's pose and rebuild the pool before the next frame. Callable from any thread.
+  /// Keyframe poses changed (local optimization): the next frame asks Local Mapping for the
+  /// window around the newest keyframe's pose. Callable from any thread.
   void notifyMapChanged() { mapChanged_ = true; }
 
   const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
   bool isLost() const { return lost_; }
-  size_t poolSize() const { return pool_.size(); }
+  size_t poolSize() const { return localMap_.pool().size(); }
+  const LocalMap& localMap() const { return localMap_; }
   const TrackerOptions& options() const { return options_; }
   const FeatureExtractor& extractor() const { return extractor_; }
 
@@ -84,32 +88,29 @@ class Tracker {
   /// Aligns the frame's depth alone with the last reference keyframe (textureless view); sets
   /// r.overlap to the share of its depth that lands on the keyframe's.
   bool registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pose& pose);
+  /// Every keyframe of the map in one pool (rebuilt when keyframes were added since).
+  const FeaturePool& wholeMapPool(const CameraIntrinsics& K, TrackingResult& r);
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   bool relocalize(const RgbdFrame& frame, const FeatureSet& features, TrackingResult& r,
                   std::vector<PoolMatch>& inlierMatches, Pose& pose);
   KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
-  void linkKeyframe(KeyframeId id, const FeatureSet& features,
+  void linkKeyframe(KeyframeId id, const FeatureSet& features, const FeaturePool& pool,
                     const std::vector<PoolMatch>& inlierMatches);
   /// Adds the depth term's point-to-plane associations (at the keyframe's pose) to the edge
   /// with its reference keyframe, so the local optimization keeps what the alignment measured.
   void linkKeyframeDepth(KeyframeId id, const Pose& pose);
-  void syncQuadTree();
-  void rebuildPool(const Pose& center, const CameraIntrinsics& K);
   bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
 
   TrackerOptions options_;
   FeatureExtractor extractor_;
   KeyframePolicy policy_;
   std::shared_ptr<KeyframeGraph> graph_;
-  QuadTree quadTree_;
-  std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
-  FeaturePool pool_;
+  LocalMap localMap_;
   FeaturePool globalPool_;          ///< every keyframe, for relocalization
   size_t globalPoolKeyframes_ = 0;  ///< keyframe count when globalPool_ was built
   size_t framesLost_ = 0;
   std::optional<DepthAlignmentTerm> lastDepthTerm_;  ///< of the last registered frame
   KeyframeId lastDepthReference_ = 0;
-  Pose windowCenter_ = Pose::Identity();
   Pose lastPose_ = Pose::Identity();
   std::optional<Pose> lastMotion_;  ///< between the last two frames, if both were tracked
   KeyframeId lastReference_ = 0;    ///< of the last tracked frame
@@ -117,6 +118,9 @@ class Tracker {
   KeyframeId fittedNormalsKeyframe_ = 0;
   bool lost_ = false;
   bool poolDirty_ = false;
+  /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
+  /// against the whole map meanwhile (and spawn no keyframe).
+  bool matchingWholeMap_ = false;
   std::atomic<bool> mapChanged_{false};
   KeyframeId nextKeyframeId_ = 0;
   KeyframeId newestKeyframe_ = 0;

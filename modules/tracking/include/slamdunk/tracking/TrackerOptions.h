@@ -4,6 +4,7 @@
 #include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/LocalMap.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -17,8 +18,14 @@ EdgeInformation edgeInformationFromString(const std::string& name);
 std::string toString(EdgeInformation e);
 
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
-  double windowSize = 5.0;      ///< W: side of the active window square, metres
-  double windowShift = 0.25;    ///< T: move the window when the camera is this far from its centre
+  double windowSize = 5.0;    ///< W: side of the active window square, metres
+  double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
+  /// Pools are prepared on a worker thread and handed over a fixed number of frames after
+  /// they were asked for: one per `poolHandoverFeaturesPerFrame` features of the window, at
+  /// most `poolHandoverFrames` (0: as soon as they are ready, never waiting; live). LocalMap.h.
+  bool poolInBackground = true;
+  int poolHandoverFrames = 8;
+  int poolHandoverFeaturesPerFrame = 3000;
   double ratioThreshold = 0.8;  ///< θ: multi-view ratio test
   int loopHopThreshold = 3;     ///< matched keyframes farther apart than this (R) close a loop
   int loopMinInliers = 10;      ///< a keyframe "matches" the frame with at least this many inliers
@@ -57,6 +64,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
+
+  LocalMapOptions localMapOptions() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

@@ -1,0 +1,78 @@
+#include <slamdunk/core/PrefetchingRawlogReader.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+namespace slamdunk {
+
+PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth)
+    : reader_(path), depth_(std::max<size_t>(depth, 1)) {
+  thread_ = std::thread([this] { readLoop(); });
+}
+
+PrefetchingRawlogReader::~PrefetchingRawlogReader() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void PrefetchingRawlogReader::readLoop() {
+  // Lowest priority: decoding fills the gaps the tracking thread leaves (its single-threaded
+  // stages free a core) instead of slowing the frame being tracked. Linux nices threads.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+  for (;;) {
+    {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [&] { return stopping_ || ready_.size() < depth_; });
+      if (stopping_) return;
+    }
+    Item item;
+    try {
+      item.scan = reader_.next();
+      if (item.scan) item.scan->load();
+    } catch (...) {
+      item.scan.reset();
+      item.error = std::current_exception();
+    }
+    item.entriesRead = reader_.entriesRead();
+    item.skipped = reader_.otherObservationsSkipped();
+    const bool last = !item.scan;
+    {
+      std::lock_guard lock(mutex_);
+      ready_.push_back(std::move(item));
+    }
+    changed_.notify_all();
+    if (last) return;  // the end or an error: nothing follows
+  }
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr PrefetchingRawlogReader::next() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return !ready_.empty(); });
+  Item item = ready_.front();
+  // The end (or the error) stays queued: asking again gives the same answer.
+  if (item.scan) ready_.pop_front();
+  entriesRead_ = item.entriesRead;
+  skipped_ = item.skipped;
+  lock.unlock();
+  changed_.notify_all();
+  if (item.error) std::rethrow_exception(item.error);
+  return item.scan;
+}
+
+size_t PrefetchingRawlogReader::entriesRead() const {
+  std::lock_guard lock(mutex_);
+  return entriesRead_;
+}
+
+size_t PrefetchingRawlogReader::otherObservationsSkipped() const {
+  std::lock_guard lock(mutex_);
+  return skipped_;
+}
+
+}  // namespace slamdunk

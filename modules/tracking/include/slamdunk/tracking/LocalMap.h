@@ -1,0 +1,116 @@
+#pragma once
+// Local Mapping (paper Sec. 4.1 and Fig. 2): keyframe positions in a quadtree over the
+// ground-parallel plane, the active window of side W around a camera pose, the feature pool
+// built from it, and the shift of the window when the camera moves more than T from its centre.
+//
+// Pools are prepared off the tracking thread. A request snapshots the window (keyframes and
+// their poses, a cheap copy of pointers) and a worker thread builds its index; the tracker keeps
+// matching against the current pool until the new one is handed over. A new keyframe gets a
+// small index of its own, handed over on the next frame, so the camera is matched against it
+// long before the window around it is ready.
+//
+// Hand-over: with handoverFrames > 0, a pool asked for at frame i replaces the current one at a
+// frame fixed by the request alone, i + 1 + (window features / handoverFeaturesPerFrame) up to
+// i + handoverFrames (a keyframe's own index at i + 1), waiting there if it is not ready:
+// offline runs are deterministic. With 0 it is handed over as soon as it is ready
+// and tracking never waits (live).
+
+#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/tracking/QuadTree.h>
+
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace slamdunk {
+
+struct LocalMapOptions {
+  double windowSize = 5.0;    ///< W: side of the active window square, metres
+  double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
+  /// Build pools on a worker thread (false: inside the tracking call, as in the paper).
+  bool backgroundPreparation = true;
+  /// Most frames between asking for a window's pool and using it (0 = as soon as it is ready).
+  int handoverFrames = 8;
+  /// A window is handed over one frame after it was asked for, plus one frame per this many
+  /// features of its keyframes (the build takes about that long at the offline frame rate):
+  /// small windows arrive early, big ones do not make tracking wait.
+  int handoverFeaturesPerFrame = 3000;
+  FeaturePoolOptions pool;
+};
+
+/// What the pool preparation cost so far.
+struct PoolPreparationStats {
+  std::vector<double> windowMs;     ///< building each window's index
+  std::vector<double> keyframeMs;   ///< building each new keyframe's own index
+  std::vector<size_t> windowSizes;  ///< features in each window's index
+  size_t windowsSkipped = 0;        ///< superseded before they were built (live only)
+};
+
+class LocalMap {
+ public:
+  LocalMap(const LocalMapOptions& options, std::shared_ptr<KeyframeGraph> graph);
+  ~LocalMap();  ///< waits for the build in progress, if any
+  LocalMap(const LocalMap&) = delete;
+  LocalMap& operator=(const LocalMap&) = delete;
+
+  /// Start of every frame: hands over the pools that are due (or ready, live). Returns the
+  /// milliseconds spent waiting for one (always 0 live).
+  double beginFrame();
+  /// The pool this frame is matched against: the window's index plus the keyframes since.
+  const FeaturePool& pool() const { return pool_; }
+
+  /// A keyframe joined the graph: it enters the quadtree, and its features the pool from the
+  /// next frame on.
+  void keyframeAdded(KeyframeId id);
+  /// Asks for the active window around `center`: after a keyframe, an optimization, a shift.
+  void requestWindow(const Pose& center, const CameraIntrinsics& K);
+  /// The camera is farther than T from the centre of the window asked for last.
+  bool shiftNeeded(const Pose& camera) const;
+  /// The window asked for last is not in the pool yet.
+  bool windowPending() const;
+  /// The keyframe's features are in the pool (or it had none to add).
+  bool includes(KeyframeId id) const;
+
+  PoolPreparationStats statistics() const;
+  const LocalMapOptions& options() const { return options_; }
+
+ private:
+  struct Job;
+  void syncQuadTree();
+  std::shared_ptr<Job> submit(PoolSnapshot snapshot, bool window, uint64_t due);
+  void handOver(const Job& job);
+  void rebuildPool();
+  void workerLoop();
+
+  LocalMapOptions options_;
+  std::shared_ptr<KeyframeGraph> graph_;
+  QuadTree quadTree_;
+  std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
+
+  // Tracking thread only.
+  FeaturePool pool_;
+  std::shared_ptr<const PoolPart> windowPart_;
+  KeyframeId windowNewest_ = 0;  ///< keyframes up to this id were in the window's snapshot
+  bool haveWindow_ = false;
+  std::vector<std::shared_ptr<const PoolPart>> keyframeParts_;  ///< spawned since the window
+  std::vector<KeyframeId> keyframesHandedOver_;                 ///< their ids (parts may be empty)
+  KeyframeId newestKeyframe_ = 0;
+  bool haveKeyframe_ = false;
+  Pose requestedCenter_ = Pose::Identity();
+  uint64_t frame_ = 0;
+  uint64_t nextSequence_ = 0, requestedWindow_ = 0, handedOverWindow_ = 0;
+
+  // Shared with the worker.
+  mutable std::mutex mutex_;
+  std::condition_variable workAvailable_, workDone_;
+  std::deque<std::shared_ptr<Job>> jobs_;  ///< submitted and not handed over, in order
+  PoolPreparationStats stats_;
+  bool stopping_ = false;
+  std::thread worker_;
+};
+
+}  // namespace slamdunk

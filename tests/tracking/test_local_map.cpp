@@ -1,0 +1,218 @@
+// Local Mapping: the window's pool is prepared off the tracking thread and handed over at a
+// fixed frame offset (offline) or as soon as it is ready (live); new keyframes are matched from
+// the next frame on through an index of their own.
+
+#include <slamdunk/tracking/LocalMap.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+using namespace slamdunk;
+
+namespace {
+
+cv::Mat randomDescriptors(int n, unsigned seed) {
+  cv::Mat d(n, 64, CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(d, cv::RNG::NORMAL, 0, 1);
+  for (int i = 0; i < n; ++i) cv::normalize(d.row(i), d.row(i));
+  return d;
+}
+
+/// A keyframe whose n features (random descriptors) lie 2 m in front of it.
+KeyframePtr makeKeyframe(KeyframeId id, int n) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = id;
+  kf->features.descriptors = randomDescriptors(n, 100 + id);
+  for (int i = 0; i < n; ++i) {
+    kf->features.keypoints.emplace_back(cv::Point2f(320, 240), 10.f);
+    kf->features.points.emplace_back(0.001 * (i % 100), 0.001 * (i / 100), 2.0);
+  }
+  return kf;
+}
+
+Pose at(double x) {
+  Pose p = Pose::Identity();
+  p.translation().x() = x;
+  return p;
+}
+
+LocalMapOptions options(bool background, int handover, PoolIndexType index = PoolIndexType::Flann) {
+  LocalMapOptions o;
+  o.backgroundPreparation = background;
+  o.handoverFrames = handover;
+  o.pool.index = index;
+  return o;
+}
+
+/// Adds keyframe `id` to the graph and tells the local map, as the tracker does.
+void spawn(KeyframeGraph& graph, LocalMap& map, KeyframeId id, int features, double x) {
+  graph.addKeyframe(makeKeyframe(id, features), at(x));
+  map.keyframeAdded(id);
+}
+
+const CameraIntrinsics K;
+
+}  // namespace
+
+TEST(LocalMap, InlineBuildsTheWindowAtOnce) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(false, 0), graph);
+  map.beginFrame();
+  spawn(*graph, map, 0, 300, 0.0);
+  EXPECT_FALSE(map.includes(0));  // the window asked for after a keyframe brings it in
+  map.beginFrame();
+  map.requestWindow(at(0.0), K);
+  EXPECT_FALSE(map.windowPending());
+  EXPECT_TRUE(map.includes(0));
+  EXPECT_EQ(map.pool().size(), 300u);
+}
+
+TEST(LocalMap, WindowIsHandedOverExactlyAtTheFixedFrameOffset) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(true, 3), graph);
+  map.beginFrame();
+  spawn(*graph, map, 0, 200, 0.0);
+  spawn(*graph, map, 1, 200, 0.1);
+  map.beginFrame();  // both keyframes' own indexes are due now
+  EXPECT_TRUE(map.includes(0));
+  EXPECT_TRUE(map.includes(1));
+  EXPECT_EQ(map.pool().size(), 400u);
+  EXPECT_EQ(map.pool().parts().size(), 2u);
+
+  map.requestWindow(at(0.05), K);
+  EXPECT_TRUE(map.windowPending());
+  // However soon the worker is done, the window waits for its frame (determinism).
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  map.beginFrame();
+  map.beginFrame();
+  EXPECT_TRUE(map.windowPending());
+  EXPECT_EQ(map.pool().parts().size(), 2u);
+  map.beginFrame();  // the third frame after the request
+  EXPECT_FALSE(map.windowPending());
+  ASSERT_EQ(map.pool().parts().size(), 1u);  // one index over both keyframes
+  EXPECT_EQ(map.pool().size(), 400u);
+  EXPECT_TRUE(map.includes(0));
+  EXPECT_TRUE(map.includes(1));
+}
+
+TEST(LocalMap, KeyframesSpawnedAfterTheSnapshotStayInThePool) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(true, 2), graph);
+  map.beginFrame();
+  spawn(*graph, map, 0, 200, 0.0);
+  map.beginFrame();
+  map.requestWindow(at(0.0), K);  // snapshot: keyframe 0 only
+  spawn(*graph, map, 1, 150, 0.1);
+  map.beginFrame();
+  EXPECT_TRUE(map.includes(1));
+  map.beginFrame();  // the window over keyframe 0 replaces keyframe 0's own index
+  EXPECT_FALSE(map.windowPending());
+  EXPECT_EQ(map.pool().size(), 350u);
+  EXPECT_EQ(map.pool().parts().size(), 2u);
+  EXPECT_TRUE(map.includes(0));
+  EXPECT_TRUE(map.includes(1));
+}
+
+TEST(LocalMap, WaitsForADueWindowThatIsNotReadyYet) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(true, 1), graph);
+  map.beginFrame();
+  for (KeyframeId id = 0; id < 40; ++id) spawn(*graph, map, id, 1000, 0.01 * id);
+  map.requestWindow(at(0.0), K);  // 40,000 features: tens of ms to index
+  map.beginFrame();               // due now: waits for it
+  EXPECT_FALSE(map.windowPending());
+  EXPECT_EQ(map.pool().size(), 40000u);
+  EXPECT_EQ(map.statistics().windowMs.size(), 1u);
+}
+
+TEST(LocalMap, LiveNeverWaitsAndTakesThePoolWhenReady) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(true, 0), graph);
+  map.beginFrame();
+  for (KeyframeId id = 0; id < 40; ++id) spawn(*graph, map, id, 1000, 0.01 * id);
+  map.requestWindow(at(0.0), K);
+  const auto t = std::chrono::steady_clock::now();
+  double waited = map.beginFrame();
+  EXPECT_EQ(waited, 0.0);
+  // Polled like frames at 100 Hz: the window arrives within a few seconds, never blocking.
+  for (int frame = 0; frame < 500 && map.windowPending(); ++frame) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    waited += map.beginFrame();
+  }
+  EXPECT_EQ(waited, 0.0);
+  EXPECT_FALSE(map.windowPending());
+  EXPECT_EQ(map.pool().size(), 40000u);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(), 5.0);
+}
+
+TEST(LocalMap, SplitPoolMatchesLikeOneIndex) {
+  // Window index + a new keyframe's own index give the same matches as one index over both
+  // (exact search, so any difference would be the merge's).
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap split(options(true, 1, PoolIndexType::Exact), graph);
+  split.beginFrame();
+  spawn(*graph, split, 0, 300, 0.0);
+  split.beginFrame();
+  split.requestWindow(at(0.0), K);
+  spawn(*graph, split, 1, 300, 0.1);
+  split.beginFrame();
+  ASSERT_EQ(split.pool().parts().size(), 2u);
+
+  FeaturePoolOptions exact;
+  exact.index = PoolIndexType::Exact;
+  FeaturePool whole(exact);
+  whole.build(*graph, {0, 1}, at(0.0), K);
+  ASSERT_EQ(whole.size(), split.pool().size());
+
+  cv::Mat query;
+  cv::vconcat(graph->keyframe(0)->features.descriptors.rowRange(0, 150),
+              graph->keyframe(1)->features.descriptors.rowRange(0, 150), query);
+  query += 0.02 * randomDescriptors(300, 9);
+  const auto a = split.pool().match(query, 0.8), b = whole.match(query, 0.8);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_GT(a.size(), 280u);
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].query, b[i].query);
+    EXPECT_EQ(split.pool().feature(a[i].pool).keyframe, whole.feature(b[i].pool).keyframe);
+    EXPECT_EQ(split.pool().feature(a[i].pool).index, whole.feature(b[i].pool).index);
+    // One index over both keyframes bounds d1 by its k-th neighbour when no feature of the same
+    // keyframe is among the k; a keyframe's own index always finds one: never a larger ratio.
+    EXPECT_LE(a[i].ratio, b[i].ratio + 1e-12);
+  }
+}
+
+TEST(LocalMap, ShiftIsMeasuredFromTheWindowAskedForLast) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMap map(options(true, 3), graph);
+  map.beginFrame();
+  spawn(*graph, map, 0, 100, 0.0);
+  map.requestWindow(at(0.0), K);
+  EXPECT_FALSE(map.shiftNeeded(at(0.2)));
+  EXPECT_TRUE(map.shiftNeeded(at(0.3)));  // T = 0.25 m
+  map.requestWindow(at(0.3), K);          // pending, but no second request for the same shift
+  EXPECT_FALSE(map.shiftNeeded(at(0.35)));
+}
+
+TEST(LocalMap, SameRequestsGiveTheSamePool) {
+  auto run = [] {
+    auto graph = std::make_shared<KeyframeGraph>();
+    LocalMap map(options(true, 2), graph);
+    map.beginFrame();
+    for (KeyframeId id = 0; id < 6; ++id) {
+      spawn(*graph, map, id, 500, 0.1 * id);
+      map.beginFrame();
+      map.requestWindow(at(0.1 * id), K);
+    }
+    for (int i = 0; i < 3; ++i) map.beginFrame();
+    return map.pool().match(randomDescriptors(400, 77), 0.95);
+  };
+  const auto a = run(), b = run();
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].query, b[i].query);
+    EXPECT_EQ(a[i].pool, b[i].pool);
+  }
+}
