@@ -4,6 +4,7 @@
 # times per configuration and prints medians as a Markdown table.
 #   scripts/benchmark.sh [RUNS]      (default 3; needs a built tree: scripts/build.sh)
 #   FEATURES="SURF64 ORB" SEQUENCES="7scenes" scripts/benchmark.sh   (a subset of the rows)
+#   NO_LIVE=1 scripts/benchmark.sh   (without the live-replay rows: they take 50 s per run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -13,7 +14,8 @@ work=build/benchmark
 mkdir -p "$work"
 
 prepare() {  # prepare NAME SEQ CAMERA
-  [ -f "$work/$1.rawlog" ] && return 0
+  # Converted again when the camera file changed (it decides the depth registration).
+  [ "$work/$1.rawlog" -nt "config-ini/cameras/$3" ] && return 0
   [ -d "$data/$2" ] || { echo "skipping $1: $data/$2 not found" >&2; return 1; }
   "$bin/tum2rawlog" "$data/$2" "$work/$1.rawlog" --camera "config-ini/cameras/$3" \
     --external-images -q >/dev/null
@@ -22,6 +24,7 @@ prepare() {  # prepare NAME SEQ CAMERA
 [ -f "$work/synthetic_loop_kinect.rawlog" ] ||
   "$bin/synthetic-rgbd" "$work/synthetic_loop_kinect.rawlog" --kinect-depth -q >/dev/null
 prepare 7scenes 7scenes/seq-1000f 7scenes.ini || true
+prepare fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini || true
 prepare fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini || true
 prepare fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini || true
 
@@ -35,12 +38,18 @@ run() {
   [ -f "$rawlog" ] || return 0
   local ini=$work/bench-$feature.ini
   sed "s/^type .*/type = $feature/" config-ini/slamdunk-default.ini > "$ini"
-  local fps=() track=() ate=() ateNoOpt=() tracked="" frames="" kf="" opt="" optMax=""
+  local fps=() p50=() p95=() p99=() pmax=() prep=() prepMax=() ate=()
+  local tracked="" frames="" kf="" opt="" optMax=""
   for ((i = 0; i < runs; i++)); do
     out=$("$bin/slamdunk-rawlog" "$rawlog" --config "$ini" -t "$work/traj.txt" --json -q \
           --gt "$work/${name}_groundtruth.txt" "$@")
     fps+=("$(echo "$out" | field fps)")
-    track+=("$(echo "$out" | field ms_tracking_median)")
+    p50+=("$(echo "$out" | field ms_tracking_median)")
+    p95+=("$(echo "$out" | field ms_tracking_p95)")
+    p99+=("$(echo "$out" | field ms_tracking_p99)")
+    pmax+=("$(echo "$out" | field ms_tracking_max)")
+    prep+=("$(echo "$out" | field ms_pool_preparation_median)")
+    prepMax+=("$(echo "$out" | field ms_pool_preparation_max)")
     ate+=("$(echo "$out" | field ate_rmse_m)")
     tracked=$(echo "$out" | field tracked); frames=$(echo "$out" | field frames)
     kf=$(echo "$out" | field keyframes); opt=$(echo "$out" | field ms_optimization_median)
@@ -49,18 +58,42 @@ run() {
   out=$("$bin/slamdunk-rawlog" "$rawlog" --config "$ini" -t "$work/traj.txt" --json -q \
         --gt "$work/${name}_groundtruth.txt" --no-optimization "$@")
   local ateNo; ateNo=$(echo "$out" | field ate_rmse_m)
-  printf "| %s | %s | %s/%s | %s | %s | %s | %s | %s | %s/%s |\n" "$name" "$feature" \
-    "$tracked" "$frames" "$kf" "$(printf '%s\n' "${ate[@]}" | median)" "${ateNo:-n/a}" \
-    "$(printf '%s\n' "${fps[@]}" | median)" "$(printf '%s\n' "${track[@]}" | median)" \
-    "$opt" "$optMax"
+  m() { printf '%s\n' "$@" | median; }
+  printf "| %s | %s | %s/%s | %s | %s | %s | %s | %s / %s / %s / %s | %s / %s | %s/%s |\n" \
+    "$name" "$feature" "$tracked" "$frames" "$kf" "$(m "${ate[@]}")" "${ateNo:-n/a}" \
+    "$(m "${fps[@]}")" "$(m "${p50[@]}")" "$(m "${p95[@]}")" "$(m "${p99[@]}")" \
+    "$(m "${pmax[@]}")" "$(m "${prep[@]}")" "$(m "${prepMax[@]}")" "$opt" "$optMax"
+}
+
+# live NAME SPEED: one row of live replay (slamdunk-live paced by the timestamps)
+live() {
+  local name=$1 speed=$2 rawlog=$work/$1.rawlog
+  [ -f "$rawlog" ] || return 0
+  printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' \
+    "$(realpath "$rawlog")" > "$work/live.ini"
+  local dropped=() p50=() p95=() pmax=() ate=() received=""
+  for ((i = 0; i < runs; i++)); do
+    out=$("$bin/slamdunk-live" --config "$work/live.ini" --trajectory "$work/live.txt" --json -q \
+          --speed "$speed" --gt "$work/${name}_groundtruth.txt")
+    received=$(echo "$out" | field frames_received)
+    dropped+=("$(echo "$out" | field frames_dropped)")
+    p50+=("$(echo "$out" | field latency_ms_p50)")
+    p95+=("$(echo "$out" | field latency_ms_p95)")
+    pmax+=("$(echo "$out" | field latency_ms_max)")
+    ate+=("$(echo "$out" | field ate_rmse_m)")
+  done
+  m() { printf '%s\n' "$@" | median; }
+  printf "| %s | %sx | %s | %s | %s / %s / %s | %s |\n" "$name" "$speed" "$received" \
+    "$(m "${dropped[@]}")" "$(m "${p50[@]}")" "$(m "${p95[@]}")" "$(m "${pmax[@]}")" \
+    "$(m "${ate[@]}")"
 }
 
 echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'); runs per row: $runs (medians)"
 echo
-echo "| sequence | features | tracked | keyframes | ATE RMSE m (local opt.) | ATE RMSE m (tracking only) | app FPS | tracking ms/frame (median) | local opt. ms median/max |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| sequence | features | tracked | keyframes | ATE RMSE m (local opt.) | ATE RMSE m (tracking only) | app FPS | tracking ms p50 / p95 / p99 / max | pool preparation ms median / max | local opt. ms median/max |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 features=${FEATURES:-SURF64 SURF128 SIFT ORB}
-sequences=${SEQUENCES:-7scenes synthetic_loop synthetic_loop_kinect fr1_desk_9f fr3_cabinet_58kf}
+sequences=${SEQUENCES:-7scenes fr1_xyz_400f synthetic_loop synthetic_loop_kinect fr1_desk_9f fr3_cabinet_58kf}
 for s in $sequences; do
   if [ "$s" = 7scenes ]; then
     for f in $features; do run 7scenes "$f"; done
@@ -68,3 +101,9 @@ for s in $sequences; do
     run "$s" SURF64
   fi
 done
+if [ -z "${NO_LIVE:-}" ]; then
+  echo
+  echo "| live replay | speed | frames | dropped | latency grab to pose ms p50 / p95 / max | ATE RMSE m |"
+  echo "|---|---|---|---|---|---|"
+  for speed in 1 2; do live 7scenes "$speed"; done
+fi

@@ -15,7 +15,8 @@ convert() {  # convert NAME SEQ_DIR CAMERA_INI
     echo "prepare-test-data: $seq not found: tests on $name will be skipped"
     return
   fi
-  if [ -f "$out/$name.rawlog" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
+  # Converted again when the camera file changed (it decides the depth registration).
+  if [ "$out/$name.rawlog" -nt "$cam" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
   "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q
 }
 

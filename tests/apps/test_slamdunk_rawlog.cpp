@@ -142,7 +142,7 @@ TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   const SlamRun opt = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), "--config " + q(config));
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_EQ(opt.value("tracked"), 1000) << opt.result.output;
-  EXPECT_LE(opt.value("ate_rmse_m"), 0.045) << opt.result.output;
+  EXPECT_LE(opt.value("ate_rmse_m"), 0.038) << opt.result.output;
 
   const SlamRun track = expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_7Scenes_NoOpt",
                                                              "--config " + q(config));

@@ -1,8 +1,10 @@
 // tum2rawlog on every real sequence in the shared data folder, read back and compared with the
 // source PNGs; and its behaviour on bad input.
 
+#include <slamdunk/core/DepthRegistration.h>
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/TumSequence.h>
 #include <slamdunk/core/TumTrajectory.h>
 
 #include "TestData.h"
@@ -87,13 +89,21 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
             std::string::npos)
       << r.output;
 
+  const auto calib = RgbdCameraCalibration::loadFromIni(cameraFor(name));
+  EXPECT_EQ(calib.depthCamera.has_value(), external);  // only 7-Scenes is not registered
   RawlogReader reader(rawlog);
   size_t i = 0;
   while (auto obs = reader.next()) {
     ASSERT_LT(i, expected.size());
     EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), expected[i].first.stamp, 1e-6);
-    const cv::Mat png = cv::imread(seq + "/" + expected[i].second.file, cv::IMREAD_UNCHANGED);
+    cv::Mat png = cv::imread(seq + "/" + expected[i].second.file, cv::IMREAD_UNCHANGED);
     ASSERT_EQ(png.type(), CV_16UC1);
+    if (calib.depthCamera) {  // 7-Scenes: depth registered to colour by the camera file
+      Eigen::Isometry3d depthToColour = Eigen::Isometry3d::Identity();
+      depthToColour.translation() = -calib.colourCentreInDepth;
+      png = registerDepthToColour(png, *calib.depthCamera, calib.intrinsics, depthToColour,
+                                  1.0 / calib.depthFactor);
+    }
     obs->load();
     ASSERT_EQ(obs->rangeImage.rows(), png.rows);
     const RgbdFrame frame = RgbdFrame::fromObservation(*obs);

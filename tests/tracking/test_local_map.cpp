@@ -72,7 +72,9 @@ TEST(LocalMap, InlineBuildsTheWindowAtOnce) {
 
 TEST(LocalMap, WindowIsHandedOverExactlyAtTheFixedFrameOffset) {
   auto graph = std::make_shared<KeyframeGraph>();
-  LocalMap map(options(true, 3), graph);
+  LocalMapOptions o = options(true, 8);
+  o.handoverFeaturesPerFrame = 150;  // 400 features: 1 + 400 / 150 = 3 frames after the request
+  LocalMap map(o, graph);
   map.beginFrame();
   spawn(*graph, map, 0, 200, 0.0);
   spawn(*graph, map, 1, 200, 0.1);
@@ -96,6 +98,27 @@ TEST(LocalMap, WindowIsHandedOverExactlyAtTheFixedFrameOffset) {
   EXPECT_EQ(map.pool().size(), 400u);
   EXPECT_TRUE(map.includes(0));
   EXPECT_TRUE(map.includes(1));
+}
+
+TEST(LocalMap, SmallWindowIsHandedOverAtTheNextFrameAndLargeOnesAtTheCap) {
+  for (const auto& [perFrame, expectedFrames] : {std::pair{3000, 1}, std::pair{10, 4}}) {
+    auto graph = std::make_shared<KeyframeGraph>();
+    LocalMapOptions o = options(true, 4);  // at most 4 frames
+    o.handoverFeaturesPerFrame = perFrame;
+    LocalMap map(o, graph);
+    map.beginFrame();
+    spawn(*graph, map, 0, 200, 0.0);
+    spawn(*graph, map, 1, 200, 0.1);
+    map.beginFrame();
+    map.requestWindow(at(0.05), K);
+    int frames = 0;
+    while (map.windowPending() && frames < 10) {
+      map.beginFrame();
+      ++frames;
+    }
+    EXPECT_EQ(frames, expectedFrames) << perFrame << " features per frame";
+    EXPECT_EQ(map.pool().parts().size(), 1u);
+  }
 }
 
 TEST(LocalMap, KeyframesSpawnedAfterTheSnapshotStayInThePool) {

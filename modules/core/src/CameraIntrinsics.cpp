@@ -28,6 +28,17 @@ Eigen::Vector2d CameraIntrinsics::undistortPixel(double u, double v) const {
   return {x * fx + cx, y * fy + cy};
 }
 
+Eigen::Vector2d CameraIntrinsics::distortPixel(double u, double v) const {
+  if (!hasDistortion()) return {u, v};
+  const double k1 = dist[0], k2 = dist[1], p1 = dist[2], p2 = dist[3], k3 = dist[4];
+  const double x = (u - cx) / fx, y = (v - cy) / fy;
+  const double r2 = x * x + y * y;
+  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+  const double yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+  return {xd * fx + cx, yd * fy + cy};
+}
+
 CameraIntrinsics CameraIntrinsics::fromTCamera(const mrpt::img::TCamera& cam) {
   CameraIntrinsics c;
   c.width = static_cast<int>(cam.ncols);

@@ -1,4 +1,8 @@
+#include <slamdunk/core/DepthRegistration.h>
 #include <slamdunk/core/RgbdFrame.h>
+
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/poses/CPose3D.h>
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/system/datetime.h>
@@ -48,19 +52,6 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
     grey = colour.clone();
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
 
-  const auto& range = obs.rangeImage;
-  if (range.cols() != grey.cols || range.rows() != grey.rows)
-    throw std::runtime_error(what + ": depth is " + std::to_string(range.cols()) + "x" +
-                             std::to_string(range.rows()) + " but colour is " +
-                             std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
-                             " (depth must be registered to colour)");
-  cv::Mat depth(grey.rows, grey.cols, CV_32F);
-  const float units = obs.rangeUnits;
-  for (int r = 0; r < depth.rows; ++r) {
-    float* row = depth.ptr<float>(r);
-    for (int c = 0; c < depth.cols; ++c) row[c] = static_cast<float>(range(r, c)) * units;
-  }
-
   CameraIntrinsics K = CameraIntrinsics::fromTCamera(obs.cameraParamsIntensity);
   if (K.width != grey.cols || K.height != grey.rows) {
     // Some drivers leave the resolution unset; the image itself is authoritative.
@@ -69,6 +60,35 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
   }
   if (!(K.fx > 0 && K.fy > 0))
     throw std::runtime_error(what + " has invalid colour camera intrinsics (fx, fy must be > 0)");
+
+  const auto& range = obs.rangeImage;
+  cv::Mat depth(static_cast<int>(range.rows()), static_cast<int>(range.cols()), CV_32F);
+  const float units = obs.rangeUnits;
+  for (int r = 0; r < depth.rows; ++r) {
+    float* row = depth.ptr<float>(r);
+    for (int c = 0; c < depth.cols; ++c) row[c] = static_cast<float>(range(r, c)) * units;
+  }
+  if (!obs.doDepthAndIntensityCamerasCoincide()) {
+    // MRPT's convention: the images are pixel-aligned only when the two cameras coincide;
+    // otherwise (a raw Kinect, say) depth is registered to colour here.
+    CameraIntrinsics depthK = CameraIntrinsics::fromTCamera(obs.cameraParams);
+    depthK.width = depth.cols;
+    depthK.height = depth.rows;
+    if (!(depthK.fx > 0 && depthK.fy > 0))
+      throw std::runtime_error(what + " has invalid depth camera intrinsics (fx, fy must be > 0)");
+    const mrpt::poses::CPose3D opticalInSensor(0, 0, 0, mrpt::DEG2RAD(-90.0), 0,
+                                               mrpt::DEG2RAD(-90.0));
+    // Depth optical frame -> depth sensor frame -> colour optical frame.
+    const mrpt::poses::CPose3D depthToColour = opticalInSensor - obs.relativePoseIntensityWRTDepth;
+    Eigen::Isometry3d T;
+    T.matrix() = depthToColour.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+    depth = registerDepthToColour(depth, depthK, K, T);
+  } else if (depth.cols != grey.cols || depth.rows != grey.rows) {
+    throw std::runtime_error(what + ": depth is " + std::to_string(depth.cols) + "x" +
+                             std::to_string(depth.rows) + " but colour is " +
+                             std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
+                             " and relativePoseIntensityWRTDepth says the cameras coincide");
+  }
   return RgbdFrame(mrpt::Clock::toDouble(obs.timestamp), std::move(grey), std::move(depth), K,
                    colour.channels() == 3 ? colour : cv::Mat());
 }

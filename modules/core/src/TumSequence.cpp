@@ -1,3 +1,4 @@
+#include <slamdunk/core/DepthRegistration.h>
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/core/TimestampAssociation.h>
 #include <slamdunk/core/TumSequence.h>
@@ -28,12 +29,10 @@ RgbdCameraCalibration RgbdCameraCalibration::loadFromIni(const std::string& path
   }
 }
 
-RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
-    const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
-  IniSectionReader r(cfg, section);
-  if (!r.sectionExists()) throw std::invalid_argument("no [" + section + "] section");
-  RgbdCameraCalibration c;
-  auto& K = c.intrinsics;
+namespace {
+
+CameraIntrinsics readIntrinsics(IniSectionReader& r) {
+  CameraIntrinsics K;
   const auto res = r.readDoubles("resolution", {640, 480}, 2);
   K.width = static_cast<int>(res[0]);
   K.height = static_cast<int>(res[1]);
@@ -43,11 +42,38 @@ RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
   K.cy = r.readDouble("cy", K.cy);
   const auto d = r.readDoubles("dist", {0, 0, 0, 0, 0}, 5);
   for (size_t i = 0; i < 5; ++i) K.dist[i] = d[i];
+  return K;
+}
+
+void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
+  if (K.width <= 0 || K.height <= 0)
+    throw std::invalid_argument("[" + section + "] resolution must be positive");
+  if (!(K.fx > 0 && K.fy > 0))
+    throw std::invalid_argument("[" + section + "] fx and fy must be positive");
+}
+
+}  // namespace
+
+RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
+  IniSectionReader r(cfg, section);
+  if (!r.sectionExists()) throw std::invalid_argument("no [" + section + "] section");
+  RgbdCameraCalibration c;
+  c.intrinsics = readIntrinsics(r);
   c.depthFactor = r.readDouble("depth_factor", c.depthFactor);
   r.rejectUnknownKeys();
-  if (K.width <= 0 || K.height <= 0) throw std::invalid_argument("resolution must be positive");
-  if (!(K.fx > 0 && K.fy > 0)) throw std::invalid_argument("fx and fy must be positive");
+  checkIntrinsics(c.intrinsics, section);
   if (!(c.depthFactor > 0)) throw std::invalid_argument("depth_factor must be positive");
+
+  const std::string depthSection = section + "_DEPTH";
+  IniSectionReader d(cfg, depthSection);
+  if (d.sectionExists()) {
+    c.depthCamera = readIntrinsics(d);
+    const auto centre = d.readDoubles("colour_centre", {0, 0, 0}, 3);
+    c.colourCentreInDepth = {centre[0], centre[1], centre[2]};
+    d.rejectUnknownKeys();
+    checkIntrinsics(*c.depthCamera, depthSection);
+  }
   return c;
 }
 
@@ -130,17 +156,23 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
                              std::to_string(K.width) + "x" + std::to_string(K.height));
   obs->hasIntensityImage = true;
 
-  const cv::Mat depth = cv::imread(f.depthFile, cv::IMREAD_UNCHANGED);
+  cv::Mat depth = cv::imread(f.depthFile, cv::IMREAD_UNCHANGED);
   if (depth.empty()) throw std::runtime_error("cannot decode depth image '" + f.depthFile + "'");
   if (depth.type() != CV_16UC1)
     throw std::runtime_error("depth image '" + f.depthFile +
                              "' is not a 16-bit single-channel PNG (found " +
                              std::to_string(depth.elemSize1() * 8) + "-bit, " +
                              std::to_string(depth.channels()) + " channel(s))");
-  if (depth.cols != K.width || depth.rows != K.height)
+  const CameraIntrinsics& depthK = calib.depthCamera ? *calib.depthCamera : K;
+  if (depth.cols != depthK.width || depth.rows != depthK.height)
     throw std::runtime_error("depth image '" + f.depthFile + "' is " + std::to_string(depth.cols) +
                              "x" + std::to_string(depth.rows) + ", expected " +
-                             std::to_string(K.width) + "x" + std::to_string(K.height));
+                             std::to_string(depthK.width) + "x" + std::to_string(depthK.height));
+  if (calib.depthCamera) {
+    Eigen::Isometry3d depthToColour = Eigen::Isometry3d::Identity();
+    depthToColour.translation() = -calib.colourCentreInDepth;
+    depth = registerDepthToColour(depth, depthK, K, depthToColour, 1.0 / calib.depthFactor);
+  }
   obs->hasRangeImage = true;
   obs->range_is_depth = true;
   obs->rangeImage_setSize(depth.rows, depth.cols);

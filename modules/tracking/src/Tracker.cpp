@@ -148,17 +148,21 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 
   const KeyframeId reference =
       r.depthOnly ? lastDepthReference_ : dominantKeyframe(inliersPerKeyframe);
-  for (const auto& [id, n] : inliersPerKeyframe)
+  std::vector<KeyframeId> linkable;  // keyframes a new keyframe would get an edge to
+  for (const auto& [id, n] : inliersPerKeyframe) {
     if (static_cast<int>(n) >= options_.loopMinInliers) r.matchedKeyframes.push_back(id);
+    if (static_cast<int>(n) >= options_.edgeMinMatches) linkable.push_back(id);
+  }
 
   // A keyframe is linked through the pool it was matched against, and the overlap only means
   // something once the newest keyframe's features are in that pool.
   const bool maySpawn = !r.relocalized && !matchingWholeMap_ && localMap_.includes(newestKeyframe_);
-  bool spawn = maySpawn && policy_.shouldSpawn(r.overlap);
-  if (!spawn && maySpawn && closesMetricLoop(r.matchedKeyframes)) {
-    spawn = true;
-    r.loopClosure = true;
-  }
+  // Paper Sec. 4.4: a frame matching keyframes far apart in the graph becomes a keyframe
+  // linked to all of them, whether or not the overlap alone would spawn one. Any new keyframe
+  // whose edges join keyframes that far apart closes a metric loop (counted as such).
+  const bool spawn =
+      maySpawn && (policy_.shouldSpawn(r.overlap) || closesMetricLoop(r.matchedKeyframes));
+  r.loopClosure = spawn && closesMetricLoop(linkable);
 
   if (spawn) {
     const KeyframeId id = addKeyframe(frame, std::move(features), pose);

@@ -34,6 +34,8 @@ struct CameraIntrinsics {
   }
   /// Removes lens distortion from a raw pixel (iterative inverse of the OpenCV model).
   Eigen::Vector2d undistortPixel(double u, double v) const;
+  /// Adds lens distortion to an undistorted pixel (the OpenCV forward model).
+  Eigen::Vector2d distortPixel(double u, double v) const;
 
   static CameraIntrinsics fromTCamera(const mrpt::img::TCamera& cam);
   mrpt::img::TCamera toTCamera() const;

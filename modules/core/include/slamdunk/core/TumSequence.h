@@ -7,6 +7,7 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,13 +17,20 @@ class CConfigFileBase;
 
 namespace slamdunk {
 
-/// Colour camera calibration plus the depth scale of the PNGs (raw units per metre).
+/// Colour camera calibration plus the depth scale of the PNGs (raw units per metre), and the
+/// depth camera when the depth images are not registered to colour.
 struct RgbdCameraCalibration {
   CameraIntrinsics intrinsics;
   double depthFactor = 5000.0;
+  /// Set when depth comes from a camera of its own: loadObservation registers it to colour.
+  std::optional<CameraIntrinsics> depthCamera;
+  /// The colour camera's centre in the depth camera's optical frame (axes parallel), metres.
+  Eigen::Vector3d colourCentreInDepth = Eigen::Vector3d::Zero();
 
-  /// Reads section [CAMERA]: resolution = [w h], fx, fy, cx, cy, dist = [k1 k2 p1 p2 k3],
-  /// depth_factor. Unknown keys and malformed values are errors naming the key.
+  /// Reads section [CAMERA] (the colour camera): resolution = [w h], fx, fy, cx, cy,
+  /// dist = [k1 k2 p1 p2 k3], depth_factor; and the optional section [CAMERA_DEPTH] (a depth
+  /// camera whose images are not registered to colour): resolution, fx, fy, cx, cy, dist,
+  /// colour_centre = [x y z]. Unknown keys and malformed values are errors naming the key.
   static RgbdCameraCalibration loadFromIni(const std::string& path);
   static RgbdCameraCalibration loadFromConfig(const mrpt::config::CConfigFileBase& cfg,
                                               const std::string& section = "CAMERA");
@@ -48,8 +56,10 @@ class TumSequence {
   const Trajectory& groundTruth() const { return groundTruth_; }
 
   /// Loads frame i as an observation (timestamp = colour stamp, raw 16-bit depth copied with
-  /// rangeUnits = 1/depthFactor). Throws naming the image on a missing or unreadable file, a
-  /// depth PNG that is not 16-bit single channel, or a size that differs from the calibration.
+  /// rangeUnits = 1/depthFactor, registered to colour first when the calibration has a depth
+  /// camera: the observation is always a registered one). Throws naming the image on a missing or
+  /// unreadable file, a depth PNG that is not 16-bit single channel, or a size that differs from
+  /// the calibration.
   mrpt::obs::CObservation3DRangeScan::Ptr loadObservation(size_t i,
                                                           const RgbdCameraCalibration& calib) const;
 

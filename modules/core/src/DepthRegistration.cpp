@@ -1,0 +1,54 @@
+#include <slamdunk/core/DepthRegistration.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace slamdunk {
+
+cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& depthCamera,
+                              const CameraIntrinsics& colourCamera,
+                              const Eigen::Isometry3d& depthToColourMetres, double metresPerUnit) {
+  if (!(metresPerUnit > 0))
+    throw std::invalid_argument("registerDepthToColour: metresPerUnit <= 0");
+  Eigen::Isometry3d depthToColour = depthToColourMetres;  // in the depth image's units
+  depthToColour.translation() /= metresPerUnit;
+  if (depth.type() != CV_16UC1 && depth.type() != CV_32FC1)
+    throw std::invalid_argument("registerDepthToColour: depth must be CV_16UC1 or CV_32FC1");
+  cv::Mat depthF;
+  depth.convertTo(depthF, CV_32F);
+
+  // A depth pixel covers about this many colour pixels (per axis) at equal depth: a colour
+  // camera with the longer focal length would otherwise see holes between the projections.
+  const int footprint = std::max(
+      1, static_cast<int>(std::ceil(
+             std::max(colourCamera.fx / depthCamera.fx, colourCamera.fy / depthCamera.fy) - 1e-9)));
+  cv::Mat out(colourCamera.height, colourCamera.width, CV_32F, cv::Scalar(0));
+  for (int r = 0; r < depthF.rows; ++r) {
+    const float* row = depthF.ptr<float>(r);
+    for (int c = 0; c < depthF.cols; ++c) {
+      const float z = row[c];
+      if (!(z > 0) || !std::isfinite(z)) continue;
+      const Eigen::Vector2d und = depthCamera.undistortPixel(c, r);
+      const Eigen::Vector3d p = depthToColour * depthCamera.backProject(und.x(), und.y(), z);
+      if (!(p.z() > 0)) continue;
+      const Eigen::Vector2d px = colourCamera.project(p);
+      const Eigen::Vector2d raw = colourCamera.distortPixel(px.x(), px.y());
+      // The footprint's pixels around the projection (one pixel when footprint is 1).
+      const int u0 = static_cast<int>(std::lround(raw.x() - 0.5 * (footprint - 1)));
+      const int v0 = static_cast<int>(std::lround(raw.y() - 0.5 * (footprint - 1)));
+      const float zc = static_cast<float>(p.z());
+      for (int v = std::max(v0, 0); v < std::min(v0 + footprint, out.rows); ++v) {
+        float* outRow = out.ptr<float>(v);
+        for (int u = std::max(u0, 0); u < std::min(u0 + footprint, out.cols); ++u)
+          if (outRow[u] == 0 || zc < outRow[u]) outRow[u] = zc;
+      }
+    }
+  }
+  if (depth.type() == CV_32FC1) return out;
+  cv::Mat out16;
+  out.convertTo(out16, CV_16U);  // rounds to the nearest raw unit
+  return out16;
+}
+
+}  // namespace slamdunk
