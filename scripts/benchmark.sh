@@ -59,8 +59,9 @@ run() {
         --gt "$work/${name}_groundtruth.txt" --no-optimization "$@")
   local ateNo; ateNo=$(echo "$out" | field ate_rmse_m)
   m() { printf '%s\n' "$@" | median; }
+  local ateMed; ateMed=$(m "${ate[@]}"); [ -n "$ateMed" ] || ateMed=n/a
   printf "| %s | %s | %s/%s | %s | %s | %s | %s | %s / %s / %s / %s | %s / %s | %s/%s |\n" \
-    "$name" "$feature" "$tracked" "$frames" "$kf" "$(m "${ate[@]}")" "${ateNo:-n/a}" \
+    "$name" "$feature" "$tracked" "$frames" "$kf" "$ateMed" "${ateNo:-n/a}" \
     "$(m "${fps[@]}")" "$(m "${p50[@]}")" "$(m "${p95[@]}")" "$(m "${p99[@]}")" \
     "$(m "${pmax[@]}")" "$(m "${prep[@]}")" "$(m "${prepMax[@]}")" "$opt" "$optMax"
 }

@@ -28,6 +28,7 @@ synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
 }
 
 convert 7scenes 7scenes/seq-1000f 7scenes.ini
+convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
 convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
 convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
 synthetic synthetic_loop loop

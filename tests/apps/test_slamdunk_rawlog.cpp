@@ -92,23 +92,25 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
   EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
 }
 
-// With the paper's tracking (no dense depth term), the local optimization improves on tracking
-// alone. (With the default dense term, tracking alone on exact synthetic depth is already at
-// 1.5 mm and the feature-only BA cannot improve it: see the README.)
-TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsPaperTrackingAlone) {
+// With the default tracking (no dense depth term) the local optimization improves on tracking
+// alone on exact depth too. (With the dense term, tracking alone there is at 1.5 mm and the
+// feature-only BA cannot improve it: see the README.)
+TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  const std::string dir = test::scratchDir("Slam_SyntheticLoopPaper");
-  const std::string config = configWith(dir, "[tracker]\ndepth_alignment_weight = 0\n");
+  const std::string dir = test::scratchDir("Slam_SyntheticLoopDefault");
+  const std::string config =
+      "--config " + q(test::sourceDir() + "/config-ini/slamdunk-default.ini");
   const SlamRun opt = runSlam(rawlog, dir, config);
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
-  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopPaper_NoOpt", config);
+  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopDefault_NoOpt", config);
 }
 
 // Weighing edge matches by keypoint scale (coarse SURF octaves localise to several pixels)
-// makes the feature-only bundle adjustment markedly more precise on the synthetic loop
-// (3.5 -> 2.0 mm measured). Off by default: on 7-Scenes it measured slightly worse.
+// makes the feature-only bundle adjustment more precise on the synthetic loop (3.1 -> 2.5 mm
+// measured with the default tracking; 3.5 -> 2.0 mm with the dense depth term). Off by
+// default: on 7-Scenes it measured worse (0.034 vs 0.027 m).
 TEST(SlamdunkRawlog, SyntheticLoopScaleAwareEdgeWeightsImproveTheOptimization) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   const std::string dir = test::scratchDir("Slam_SyntheticLoopScaleAware");
@@ -117,7 +119,7 @@ TEST(SlamdunkRawlog, SyntheticLoopScaleAwareEdgeWeightsImproveTheOptimization) {
   ASSERT_EQ(scaleAware.result.exitCode, 0) << scaleAware.result.output;
   const SlamRun plain = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopPlainWeights"));
   ASSERT_EQ(plain.result.exitCode, 0) << plain.result.output;
-  EXPECT_LT(scaleAware.value("ate_rmse_m"), 0.8 * plain.value("ate_rmse_m"))
+  EXPECT_LT(scaleAware.value("ate_rmse_m"), 0.9 * plain.value("ate_rmse_m"))
       << scaleAware.result.output << plain.result.output;
   EXPECT_GE(scaleAware.value("loop_closures"), 1) << scaleAware.result.output;
 }
@@ -126,7 +128,7 @@ TEST(SlamdunkRawlog, SyntheticLoopScaleAwareEdgeWeightsImproveTheOptimization) {
 // the local optimization improves on tracking alone with the default INI.
 TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthOptimizationBeatsTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop_kinect");
-  const SlamRun opt = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoopKinect", 0.03);
+  const SlamRun opt = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoopKinect", 0.015);
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopKinect_NoOpt");
 }
@@ -147,6 +149,18 @@ TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   const SlamRun track = expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_7Scenes_NoOpt",
                                                              "--config " + q(config));
   EXPECT_EQ(track.value("tracked"), 1000) << track.result.output;
+}
+
+// Real hand-held motion with motion-capture ground truth (TUM fr1/xyz, first 400 frames).
+// ORB-SLAM2 gives 0.0106 m on these frames on this machine; SlamDunk 0.015 m (README).
+TEST(SlamdunkRawlog, TumFr1XyzHandHeld) {
+  REQUIRE_RAWLOG(rawlog, "fr1_xyz_400f");
+  const std::string config = test::sourceDir() + "/config-ini/slamdunk-default.ini";
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Fr1Xyz"), "--config " + q(config));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), r.value("frames")) << r.result.output;
+  EXPECT_LE(r.value("ate_rmse_m"), 0.020) << r.result.output;
 }
 
 TEST(SlamdunkRawlog, TumFr1DeskNineFrames) {
@@ -457,7 +471,9 @@ TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfTheSyntheticLoopInTheSavedMap
   EXPECT_GE(f.firstTracked, 0);
   EXPECT_LT(f.firstTracked, 10);
   EXPECT_EQ(f.tracked, 200);
-  EXPECT_LE(f.rmseInMap, 0.01);
+  // In the map's frame, without alignment: includes the first half's own drift (10.5 mm
+  // measured; 6.4 mm with the dense depth term, which exact depth favours).
+  EXPECT_LE(f.rmseInMap, 0.015);
 }
 
 TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {

@@ -42,9 +42,9 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// pixel for every keypoint.
   double keypointScaleSigma = 0;
   bool anisotropicRefinement = true;  ///< Gauss-Newton pose refinement with ray-aligned noise
-  /// Dense point-to-plane term in the refinement; 0 = off (the paper). Strong by default: on
-  /// sensor depth it is more precise than the features' 3D points.
-  double depthAlignmentWeight = 100.0;
+  /// Dense point-to-plane term in the refinement; 0 = off (the paper, and the default: on
+  /// quantized Kinect depth it biases the pose more than the features' registered points).
+  double depthAlignmentWeight = 0.0;
   int depthAlignmentStride = 8;             ///< pixels between the current frame's depth samples
   double depthAlignmentMaxDistance = 0.05;  ///< metres: farther associations are rejected
   double depthAlignmentMaxDepth = 4.0;      ///< metres: farther depth is too noisy to align
