@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Scale benchmark (issue 10, not run in CI): SlamDunk along the 55 m office "tour" with
+# Kinect-like depth, with a keyframe policy that spawns more than 300 keyframes
+# (keyframe_overlap = 0.95; the default gives about 80 there). Prints tracking ms p50/p95/max
+# per block of 100 keyframes (the per-frame cost must follow the window, not the map), the
+# peak RSS, and memory per keyframe with and without keyframe images (peak RSS of the whole
+# run minus that of its first half, over the keyframes between them).
+#   scripts/benchmark-scale.sh            (renders the tour once: about 4 minutes)
+#   TOUR=/path/tour_kinect.rawlog scripts/benchmark-scale.sh   (an existing rendering)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=build/bin
+work=build/benchmark/scale
+mkdir -p "$work"
+tour=${TOUR:-$work/tour_kinect.rawlog}
+if [ ! -f "$tour" ]; then
+  echo "rendering the tour into $tour ..." >&2
+  "$bin/synthetic-rgbd" "$tour" --trajectory tour --kinect-depth --external-images -q >/dev/null
+fi
+gt=${tour%.rawlog}_groundtruth.txt
+sed 's/^keyframe_overlap .*/keyframe_overlap = 0.95/' config-ini/slamdunk-default.ini > "$work/scale.ini"
+sed 's/^keep_keyframe_images .*/keep_keyframe_images = true/' "$work/scale.ini" > "$work/scale-images.ini"
+frames=$(grep -vc '^#' "$gt")
+
+field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
+run() {  # run INI MAX_FRAMES [EXTRA...]: JSON summary
+  local ini=$1 max=$2; shift 2
+  "$bin/slamdunk-rawlog" "$tour" --config "$ini" -t "$work/traj.txt" --json -q \
+    --max-frames "$max" "$@"
+}
+
+full=$(run "$work/scale.ini" "$frames" --gt "$gt" --frame-log "$work/frames.csv")
+echo "tour: $frames frames, $(echo "$full" | field keyframes) keyframes, ATE $(echo "$full" | field ate_rmse_m) m, $(echo "$full" | field fps) frames/s, peak RSS $(echo "$full" | field peak_rss_mib) MiB"
+echo
+echo "| keyframes | frames | tracking ms p50 | p95 | max |"
+echo "|---|---|---|---|---|"
+# Columns of the frame log: new_keyframe is 8, ms_total 16.
+awk -F, 'NR > 1 { if ($8 == 1) kf++; b = int(kf / 100); print b, $16 }' "$work/frames.csv" |
+  sort -k1,1n -k2,2g |
+  awk '{ v[$1, ++n[$1]] = $2 }
+       END { for (b in n) {
+               m = n[b]; p50 = v[b, int((m + 1) / 2)]; p95 = v[b, int(0.95 * m + 0.999)]
+               printf "| %d-%d | %d | %.1f | %.1f | %.1f |\n", b * 100, b * 100 + 99, m, p50, p95, v[b, m] } }' |
+  sort -t- -k1,1n
+
+half=$((frames / 2))
+for ini in scale scale-images; do
+  a=$(run "$work/$ini.ini" "$half"); b=$(run "$work/$ini.ini" "$frames")
+  ka=$(echo "$a" | field keyframes); kb=$(echo "$b" | field keyframes)
+  ra=$(echo "$a" | field peak_rss_mib); rb=$(echo "$b" | field peak_rss_mib)
+  awk -v ka="$ka" -v kb="$kb" -v ra="$ra" -v rb="$rb" -v what="$ini" 'BEGIN {
+    printf "%s: peak RSS %.1f MiB at %d keyframes, %.1f MiB at %d: %.0f KB per keyframe\n",
+      (what == "scale" ? "without keyframe images" : "with keyframe images"), ra, ka, rb, kb,
+      (rb - ra) * 1024 / (kb - ka) }'
+done
