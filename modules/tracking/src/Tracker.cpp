@@ -335,7 +335,7 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
   const KeyframePtr kf = graph_->keyframe(reference);
   if (!kf || kf->depthSmall.empty()) return std::nullopt;
   DepthAlignmentTerm term;
-  term.referenceDepth = kf->depthSmall;
+  kf->depthSmall.convertTo(term.referenceDepth, CV_32F);
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
   term.worldFromReference = graph_->pose(reference);
   term.weight = options_.depthAlignmentWeight;
@@ -405,7 +405,7 @@ KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, c
   kf->features = std::move(features);
   kf->intrinsics = frame.intrinsics();
   kf->depthSmallStride = 4;
-  kf->depthSmall = subsampleDepth(frame.depth(), kf->depthSmallStride);
+  subsampleDepth(frame.depth(), kf->depthSmallStride).convertTo(kf->depthSmall, CV_16F);
   if (options_.keepKeyframeImages) {
     kf->colour = frame.colour().empty() ? frame.grey().clone() : frame.colour().clone();
     kf->depth = frame.depth().clone();
