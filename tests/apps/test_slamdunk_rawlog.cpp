@@ -53,6 +53,11 @@ std::string configWith(const std::string& dir, const std::string& iniText) {
   return " --config " + q(dir + "/override.ini");
 }
 
+/// The "--config FILE" argument for the shipped default INI (the file users copy).
+std::string defaultConfig() {
+  return " --config " + q(test::sourceDir() + "/config-ini/slamdunk-default.ini");
+}
+
 /// Default run on a prepared sequence: exit 0, no frame lost, ATE below the bound.
 SlamRun expectAllTrackedWithin(const std::string& rawlog, const std::string& dirName,
                                double ateBound) {
@@ -98,8 +103,7 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateAndClosesTheLoop) {
 TEST(SlamdunkRawlog, SyntheticLoopOptimizationBeatsTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   const std::string dir = test::scratchDir("Slam_SyntheticLoopDefault");
-  const std::string config =
-      "--config " + q(test::sourceDir() + "/config-ini/slamdunk-default.ini");
+  const std::string config = defaultConfig();
   const SlamRun opt = runSlam(rawlog, dir, config);
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
@@ -140,14 +144,13 @@ TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
 
 TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  const std::string config = test::sourceDir() + "/config-ini/slamdunk-default.ini";
-  const SlamRun opt = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), "--config " + q(config));
+  const SlamRun opt = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), defaultConfig());
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_EQ(opt.value("tracked"), 1000) << opt.result.output;
   EXPECT_LE(opt.value("ate_rmse_m"), 0.038) << opt.result.output;
 
-  const SlamRun track = expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_7Scenes_NoOpt",
-                                                             "--config " + q(config));
+  const SlamRun track =
+      expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_7Scenes_NoOpt", defaultConfig());
   EXPECT_EQ(track.value("tracked"), 1000) << track.result.output;
 }
 
@@ -155,8 +158,7 @@ TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
 // ORB-SLAM2 gives 0.0106 m on these frames on this machine; SlamDunk 0.015 m (README).
 TEST(SlamdunkRawlog, TumFr1XyzHandHeld) {
   REQUIRE_RAWLOG(rawlog, "fr1_xyz_400f");
-  const std::string config = test::sourceDir() + "/config-ini/slamdunk-default.ini";
-  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Fr1Xyz"), "--config " + q(config));
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Fr1Xyz"), defaultConfig());
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
   EXPECT_EQ(r.value("tracked"), r.value("frames")) << r.result.output;

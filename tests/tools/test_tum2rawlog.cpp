@@ -98,12 +98,9 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
     EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), expected[i].first.stamp, 1e-6);
     cv::Mat png = cv::imread(seq + "/" + expected[i].second.file, cv::IMREAD_UNCHANGED);
     ASSERT_EQ(png.type(), CV_16UC1);
-    if (calib.depthCamera) {  // 7-Scenes: depth registered to colour by the camera file
-      Eigen::Isometry3d depthToColour = Eigen::Isometry3d::Identity();
-      depthToColour.translation() = -calib.colourCentreInDepth;
-      png = registerDepthToColour(png, *calib.depthCamera, calib.intrinsics, depthToColour,
+    if (calib.depthCamera)  // 7-Scenes: depth registered to colour by the camera file
+      png = registerDepthToColour(png, *calib.depthCamera, calib.intrinsics, calib.depthToColour(),
                                   1.0 / calib.depthFactor);
-    }
     obs->load();
     ASSERT_EQ(obs->rangeImage.rows(), png.rows);
     const RgbdFrame frame = RgbdFrame::fromObservation(*obs);

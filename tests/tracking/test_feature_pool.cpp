@@ -1,31 +1,15 @@
 #include <slamdunk/tracking/FeaturePool.h>
 
+#include "PoolTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 using namespace slamdunk;
 
-namespace {
-// A keyframe whose features are random unit descriptors at points 2 m in front of it.
-KeyframePtr makeKeyframe(KeyframeId id, const cv::Mat& descriptors) {
-  auto kf = std::make_shared<Keyframe>();
-  kf->id = id;
-  kf->features.descriptors = descriptors.clone();
-  for (int i = 0; i < descriptors.rows; ++i) {
-    kf->features.keypoints.emplace_back(cv::Point2f(320, 240), 10.f);
-    kf->features.points.emplace_back(0.001 * i, 0, 2.0);
-  }
-  return kf;
-}
-cv::Mat randomDescriptors(int n, unsigned seed) {
-  cv::Mat d(n, 64, CV_32F);
-  cv::RNG rng(seed);
-  rng.fill(d, cv::RNG::NORMAL, 0, 1);
-  for (int i = 0; i < n; ++i) cv::normalize(d.row(i), d.row(i));
-  return d;
-}
-}  // namespace
+using test::makeKeyframe;
+using test::randomDescriptors;
 
 TEST(FeaturePool, MultiViewRatioUsesSameKeyframeNeighbour) {
   // The same descriptors seen from two keyframes: a plain ratio test would find d0 ≈ d1 and

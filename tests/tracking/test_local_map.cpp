@@ -4,6 +4,8 @@
 
 #include <slamdunk/tracking/LocalMap.h>
 
+#include "PoolTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -13,24 +15,11 @@ using namespace slamdunk;
 
 namespace {
 
-cv::Mat randomDescriptors(int n, unsigned seed) {
-  cv::Mat d(n, 64, CV_32F);
-  cv::RNG rng(seed);
-  rng.fill(d, cv::RNG::NORMAL, 0, 1);
-  for (int i = 0; i < n; ++i) cv::normalize(d.row(i), d.row(i));
-  return d;
-}
+using test::randomDescriptors;
 
-/// A keyframe whose n features (random descriptors) lie 2 m in front of it.
+/// A keyframe with n random features.
 KeyframePtr makeKeyframe(KeyframeId id, int n) {
-  auto kf = std::make_shared<Keyframe>();
-  kf->id = id;
-  kf->features.descriptors = randomDescriptors(n, 100 + id);
-  for (int i = 0; i < n; ++i) {
-    kf->features.keypoints.emplace_back(cv::Point2f(320, 240), 10.f);
-    kf->features.points.emplace_back(0.001 * (i % 100), 0.001 * (i / 100), 2.0);
-  }
-  return kf;
+  return test::makeKeyframe(id, randomDescriptors(n, 100 + id));
 }
 
 Pose at(double x) {

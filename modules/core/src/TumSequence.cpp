@@ -168,11 +168,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
     throw std::runtime_error("depth image '" + f.depthFile + "' is " + std::to_string(depth.cols) +
                              "x" + std::to_string(depth.rows) + ", expected " +
                              std::to_string(depthK.width) + "x" + std::to_string(depthK.height));
-  if (calib.depthCamera) {
-    Eigen::Isometry3d depthToColour = Eigen::Isometry3d::Identity();
-    depthToColour.translation() = -calib.colourCentreInDepth;
-    depth = registerDepthToColour(depth, depthK, K, depthToColour, 1.0 / calib.depthFactor);
-  }
+  if (calib.depthCamera)
+    depth = registerDepthToColour(depth, depthK, K, calib.depthToColour(), 1.0 / calib.depthFactor);
   obs->hasRangeImage = true;
   obs->range_is_depth = true;
   obs->rangeImage_setSize(depth.rows, depth.cols);

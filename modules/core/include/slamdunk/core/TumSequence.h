@@ -7,6 +7,8 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <Eigen/Geometry>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +28,13 @@ struct RgbdCameraCalibration {
   std::optional<CameraIntrinsics> depthCamera;
   /// The colour camera's centre in the depth camera's optical frame (axes parallel), metres.
   Eigen::Vector3d colourCentreInDepth = Eigen::Vector3d::Zero();
+
+  /// Depth camera frame -> colour camera frame (axes parallel, metres).
+  Eigen::Isometry3d depthToColour() const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translation() = -colourCentreInDepth;
+    return t;
+  }
 
   /// Reads section [CAMERA] (the colour camera): resolution = [w h], fx, fy, cx, cy,
   /// dist = [k1 k2 p1 p2 k3], depth_factor; and the optional section [CAMERA_DEPTH] (a depth
