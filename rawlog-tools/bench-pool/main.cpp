@@ -26,10 +26,17 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
+/// How a candidate lays out the pool.
+enum class Layout {
+  Window,       ///< one part over the whole active window
+  PerKeyframe,  ///< one part per keyframe of the window (built once when the keyframe is made)
+  OneKeyframe   ///< only the window's newest keyframe: the part a new keyframe adds to the pool
+};
+
 struct Candidate {
   std::string name;
   FeaturePoolOptions options;
-  bool perKeyframe = false;  ///< one part per keyframe (built once when the keyframe is made)
+  Layout layout = Layout::Window;
 };
 
 struct Figures {
@@ -91,13 +98,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench-pool: %zu frames, %zu keyframes\n", framePose.size(),
                  graph.keyframeCount());
 
-    const FeaturePoolOptions base = options.tracker.pool;
+    // Every part indexed as the candidate says, however small, unless it says otherwise.
+    FeaturePoolOptions base = options.tracker.pool;
+    base.bruteForceBelow = 0;
     std::vector<Candidate> candidates;
-    auto add = [&](const std::string& name, auto change, bool perKeyframe = false) {
+    auto add = [&](const std::string& name, auto change, Layout layout = Layout::Window) {
       FeaturePoolOptions o = base;
       change(o);
-      candidates.push_back({name, o, perKeyframe});
+      candidates.push_back({name, o, layout});
     };
+    auto bruteForce = [](FeaturePoolOptions& o) { o.index = PoolIndexType::Exact; };
     for (int trees : {1, 2, 4, 8})
       for (int checks : {16, 32, 64})
         add("flann " + std::to_string(trees) + " trees, " + std::to_string(checks) + " checks",
@@ -108,9 +118,20 @@ int main(int argc, char** argv) {
     add("flann 4 trees, 16 checks, no frustum filter",
         [](FeaturePoolOptions& o) { o.frustumFilter = false; });
     add(
-        "flann 4 trees, 16 checks, one index per keyframe", [](FeaturePoolOptions&) {}, true);
+        "flann 4 trees, 16 checks, one index per keyframe", [](FeaturePoolOptions&) {},
+        Layout::PerKeyframe);
     add("nanoflann (exact KD-tree)",
         [](FeaturePoolOptions& o) { o.index = PoolIndexType::Nanoflann; });
+    add("brute force", bruteForce);
+    add("brute force, one part per keyframe", bruteForce, Layout::PerKeyframe);
+    add(
+        "new keyframe's part: flann 1 tree, 64 checks",
+        [](FeaturePoolOptions& o) {
+          o.kdTrees = 1;
+          o.checks = 64;
+        },
+        Layout::OneKeyframe);
+    add("new keyframe's part: brute force", bruteForce, Layout::OneKeyframe);
 
     // Query frames and their features.
     const size_t q = std::max(1, argQueries.getValue());
@@ -136,23 +157,37 @@ int main(int argc, char** argv) {
             std::abs(pose.translation().z() - center.translation().z()) <= W / 2)
           window.push_back(id);
 
+      if (window.empty()) continue;
+      // A new keyframe's part has all its features (no frustum); the nearest keyframe stands in.
+      const KeyframeId nearest =
+          *std::min_element(window.begin(), window.end(), [&](auto a, auto b) {
+            return translationDistance(graph.pose(a), center) <
+                   translationDistance(graph.pose(b), center);
+          });
+      auto buildPool = [&](FeaturePool& pool, Layout layout, const FeaturePoolOptions& o) {
+        if (layout == Layout::Window) {
+          pool.build(graph, window, center, frame.intrinsics());
+          return;
+        }
+        for (KeyframeId id : layout == Layout::PerKeyframe ? window : std::vector{nearest})
+          pool.append(std::make_shared<const PoolPart>(PoolSnapshot::of(graph, {id}), o));
+      };
       FeaturePoolOptions exactOptions = base;
-      exactOptions.index = PoolIndexType::Exact;
-      FeaturePool exact(exactOptions);
-      exact.build(graph, window, center, frame.intrinsics());
-      const MatchSet reference =
-          matchSet(exact, exact.match(features.descriptors, options.tracker.ratioThreshold));
+      bruteForce(exactOptions);
+      auto exactMatches = [&](Layout layout) {
+        FeaturePool exact(exactOptions);
+        buildPool(exact, layout, exactOptions);
+        return matchSet(exact, exact.match(features.descriptors, options.tracker.ratioThreshold));
+      };
+      const MatchSet windowReference = exactMatches(Layout::Window);
+      const MatchSet nearestReference = exactMatches(Layout::OneKeyframe);
       for (size_t c = 0; c < candidates.size(); ++c) {
         const Candidate& cand = candidates[c];
         FeaturePool pool(cand.options);
         const auto t = Clock::now();
-        if (cand.perKeyframe) {
-          for (KeyframeId id : window)
-            pool.append(
-                std::make_shared<const PoolPart>(PoolSnapshot::of(graph, {id}), cand.options));
-        } else {
-          pool.build(graph, window, center, frame.intrinsics());
-        }
+        buildPool(pool, cand.layout, cand.options);
+        const MatchSet& reference =
+            cand.layout == Layout::OneKeyframe ? nearestReference : windowReference;
         const double buildMs = msSince(t);
         const auto t2 = Clock::now();
         const auto matches = pool.match(features.descriptors, options.tracker.ratioThreshold);
@@ -162,8 +197,9 @@ int main(int argc, char** argv) {
         for (const auto& m : found) agree += reference.count(m);
         Figures& fig = figures[c];
         // Per-keyframe indexes are built once per keyframe, not per window: per keyframe cost.
-        fig.buildMs.push_back(cand.perKeyframe ? buildMs / std::max<size_t>(1, window.size())
-                                               : buildMs);
+        fig.buildMs.push_back(cand.layout == Layout::PerKeyframe
+                                  ? buildMs / std::max<size_t>(1, window.size())
+                                  : buildMs);
         fig.matchMs.push_back(matchMs);
         fig.recall.push_back(reference.empty() ? 1.0 : double(agree) / reference.size());
         fig.precision.push_back(found.empty() ? 1.0 : double(agree) / found.size());
@@ -181,7 +217,7 @@ int main(int argc, char** argv) {
       const Figures& f = figures[c];
       std::printf("| %s | %s | %s%s | %s | %.3f | %.3f |\n", candidates[c].name.c_str(),
                   stats(f.features, "%.0f/%.0f").c_str(), stats(f.buildMs, "%.1f/%.1f").c_str(),
-                  candidates[c].perKeyframe ? " per keyframe" : "",
+                  candidates[c].layout == Layout::PerKeyframe ? " per keyframe" : "",
                   stats(f.matchMs, "%.2f/%.2f").c_str(),
                   eval::ErrorStatistics::compute(f.recall).median,
                   eval::ErrorStatistics::compute(f.precision).median);

@@ -51,11 +51,45 @@ TEST(FeaturePool, BinaryDescriptorsAndDeterminism) {
   rng.fill(d, cv::RNG::UNIFORM, 0, 256);
   KeyframeGraph graph;
   graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
-  FeaturePool a, b;
-  a.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
-  b.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
-  const auto ma = a.match(d, 0.8), mb = b.match(d, 0.8);
-  EXPECT_GT(ma.size(), 250u);
-  ASSERT_EQ(ma.size(), mb.size());
-  for (size_t i = 0; i < ma.size(); ++i) EXPECT_EQ(ma[i].pool, mb[i].pool);
+  for (const int bruteForceBelow : {0, 1000}) {  // LSH index, then brute force (Hamming)
+    FeaturePoolOptions options;
+    options.bruteForceBelow = bruteForceBelow;
+    FeaturePool a(options), b(options);
+    a.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+    b.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+    ASSERT_EQ(a.parts().front()->bruteForce(), bruteForceBelow > 0);
+    const auto ma = a.match(d, 0.8), mb = b.match(d, 0.8);
+    EXPECT_GT(ma.size(), 250u);
+    ASSERT_EQ(ma.size(), mb.size());
+    for (size_t i = 0; i < ma.size(); ++i) EXPECT_EQ(ma[i].pool, mb[i].pool);
+  }
+}
+
+TEST(FeaturePool, SmallPartsAreSearchedExactly) {
+  // A new keyframe's part (a few hundred features) is searched by brute force: every match is
+  // the true nearest neighbour, with the true ratio to the second nearest.
+  const cv::Mat d = randomDescriptors(600, 11);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
+  cv::Mat query = d.rowRange(0, 300).clone();
+  query += 0.25 * randomDescriptors(300, 12);
+  FeaturePool pool;  // default: parts of at most 1000 features by brute force
+  pool.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  ASSERT_TRUE(pool.parts().front()->bruteForce());
+  const auto matches = pool.match(query, 0.9);
+  ASSERT_GT(matches.size(), 200u);
+  for (const auto& m : matches) {
+    std::vector<double> dist;
+    for (int i = 0; i < d.rows; ++i) dist.push_back(cv::norm(query.row(m.query), d.row(i)));
+    std::vector<double> sorted = dist;
+    std::partial_sort(sorted.begin(), sorted.begin() + 2, sorted.end());
+    EXPECT_NEAR(dist[pool.feature(m.pool).index], sorted[0], 1e-5);
+    EXPECT_NEAR(m.ratio, sorted[0] / sorted[1], 1e-5);
+  }
+  // Above the threshold the part gets a KD-tree.
+  FeaturePoolOptions indexed;
+  indexed.bruteForceBelow = 500;
+  FeaturePool big(indexed);
+  big.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  EXPECT_FALSE(big.parts().front()->bruteForce());
 }

@@ -111,6 +111,9 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   for (int r = 0; r < descriptors_.rows; ++r)
     std::memcpy(descriptors_.ptr(r), binary_ ? static_cast<const void*>(rowsB[r]) : rowsF[r],
                 rowBytes);
+  if (options.index == PoolIndexType::Exact ||
+      features_.size() <= static_cast<size_t>(std::max(0, options.bruteForceBelow)))
+    return;  // searched by brute force
   if (!binary_ && options.index == PoolIndexType::Nanoflann) {
     nanoflann_ = std::make_unique<NanoflannIndex>(descriptors_);
     return;
@@ -118,9 +121,7 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   // OpenCV's FLANN draws its tree splits from cv::theRNG(), which is per thread: seeding it
   // here makes the trees depend on the snapshot and the seed only, whichever thread builds them.
   cv::theRNG() = cv::RNG(options.seed);
-  if (!binary_ && options.index == PoolIndexType::Exact)
-    index_ = std::make_unique<cv::flann::Index>(descriptors_, cv::flann::LinearIndexParams());
-  else if (binary_)
+  if (binary_)
     index_ = std::make_unique<cv::flann::Index>(descriptors_, cv::flann::LshIndexParams(12, 16, 2),
                                                 cvflann::FLANN_DIST_HAMMING);
   else
@@ -151,6 +152,17 @@ void PoolPart::knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& ind
         distances.at<float>(q, j) = ok ? std::sqrt(std::max(0.f, d2[j])) : 0.f;
       }
     }
+    return;
+  }
+  if (bruteForce()) {
+    // Sorted k nearest, plain (not squared) L2 or Hamming distances.
+    cv::Mat dst;
+    cv::batchDistance(queries, descriptors_, dst, binary_ ? CV_32S : CV_32F, indices,
+                      binary_ ? cv::NORM_HAMMING : cv::NORM_L2, k);
+    if (binary_)
+      dst.convertTo(distances, CV_32F);
+    else
+      distances = dst;
     return;
   }
   cv::Mat idx, dst;
@@ -221,12 +233,15 @@ std::vector<PoolMatch> FeaturePool::match(const cv::Mat& query, double ratioThre
   };
   std::vector<Best> best(query.rows);
   const int threads = std::max(1, std::min(options_.searchThreads, query.rows));
-  // Each stripe searches its own block of queries; results land in disjoint entries.
+  // Each block of queries lands in its own entries. More blocks than threads, handed out as
+  // threads free up: when the pool worker shares a core with one search thread, the other
+  // takes more blocks instead of waiting for the slowed one (the tail of the frame times).
+  const int blocks = threads == 1 ? 1 : std::min(query.rows, 8 * threads);
   cv::parallel_for_(
-      cv::Range(0, threads),
+      cv::Range(0, blocks),
       [&](const cv::Range& range) {
         for (int t = range.start; t < range.end; ++t) {
-          const int a = query.rows * t / threads, b = query.rows * (t + 1) / threads;
+          const int a = query.rows * t / blocks, b = query.rows * (t + 1) / blocks;
           if (a == b) continue;
           for (size_t p = 0; p < parts_.size(); ++p) {
             const PoolPart& part = *parts_[p];
@@ -264,7 +279,7 @@ std::vector<PoolMatch> FeaturePool::match(const cv::Mat& query, double ratioThre
           }
         }
       },
-      threads);
+      blocks);
 
   for (int q = 0; q < query.rows; ++q)
     if (best[q].d0 >= 0 && best[q].ratio < ratioThreshold)

@@ -79,6 +79,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   pool.index = poolIndexTypeFromString(r.readString("pool_index", toString(pool.index)));
   pool.kdTrees = r.readInt("kdtree_trees", pool.kdTrees);
   pool.checks = r.readInt("kdtree_checks", pool.checks);
+  pool.bruteForceBelow = r.readInt("pool_brute_force_below", pool.bruteForceBelow);
   pool.neighbours = r.readInt("knn_neighbours", pool.neighbours);
   pool.searchThreads = r.readInt("search_threads", pool.searchThreads);
   pool.frustumFilter = r.readBool("pool_frustum_filter", pool.frustumFilter);
@@ -163,6 +164,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "pool_index", toString(pool.index));
   cfg.write(s, "kdtree_trees", pool.kdTrees);
   cfg.write(s, "kdtree_checks", pool.checks);
+  cfg.write(s, "pool_brute_force_below", pool.bruteForceBelow);
   cfg.write(s, "knn_neighbours", pool.neighbours);
   cfg.write(s, "search_threads", pool.searchThreads);
   cfg.write(s, "pool_frustum_filter", pool.frustumFilter);

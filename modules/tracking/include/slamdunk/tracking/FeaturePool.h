@@ -27,15 +27,19 @@ namespace slamdunk {
 enum class PoolIndexType {
   Flann,      ///< OpenCV FLANN randomized KD-trees: approximate, `kdTrees` trees, `checks`
   Nanoflann,  ///< nanoflann single KD-tree: exact, cheap to build, slow to search in 64-D
-  Exact       ///< brute force (FLANN linear): the reference for accuracy measurements
+  Exact       ///< brute force for every part: the reference for accuracy measurements
 };
 PoolIndexType poolIndexTypeFromString(const std::string& name);
 std::string toString(PoolIndexType t);
 
 struct FeaturePoolOptions {
   PoolIndexType index = PoolIndexType::Flann;
-  int kdTrees = 1;             ///< randomized KD-trees (float descriptors)
-  int checks = 64;             ///< descriptors compared per search (FLANN counts points)
+  int kdTrees = 1;  ///< randomized KD-trees (float descriptors)
+  int checks = 64;  ///< descriptors compared per search (FLANN counts points)
+  /// Parts of at most this many features are searched by brute force, whatever `index` says:
+  /// exact, and cheaper than a 64-check KD-tree search below about 1500 features (a KD-tree
+  /// search costs about the same per query whatever the part's size; bench-pool).
+  int bruteForceBelow = 1000;
   int neighbours = 4;          ///< k of the k-NN search used by the ratio test
   int searchThreads = 2;       ///< the only parallel block of tracking, as in the paper
   bool frustumFilter = true;   ///< keep only features visible from the window centre
@@ -80,6 +84,7 @@ class PoolPart {
   /// The keyframe's pose in the snapshot the part was built from (null: not in the part).
   const Pose* poseAtBuild(KeyframeId id) const;
   bool binary() const { return binary_; }
+  bool bruteForce() const { return !index_ && !nanoflann_; }
   /// k nearest neighbours of each query row: indices (CV_32S, -1 = none) and distances
   /// (CV_32F: Euclidean for float descriptors, bit counts for binary ones).
   void knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& indices,
