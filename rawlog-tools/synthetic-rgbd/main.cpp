@@ -35,8 +35,10 @@ int main(int argc, char** argv) {
         "'loop' (1 m circle in the room looking outward at the walls, 400 frames, ends where it "
         "started) or 'tour' (once round the office: 55 m at a walking pace of ~0.5 m/s, "
         "3300 frames = 110 s, looking partly at the walls, ends where it started; a scale "
-        "benchmark)",
-        false, "loop", "sweep|loop|tour", cmd);
+        "benchmark); hand-held, in the room: 'rotations' (quick sweeps about each axis up to "
+        "~90 deg/s, 330 frames), 'shake' (a slow sweep under a shaking hand, 300 frames), "
+        "'scan' (a 2.5-minute room scan, two laps looking outward, 4500 frames)",
+        false, "loop", "sweep|loop|tour|rotations|shake|scan", cmd);
     TCLAP::ValueArg<int> argFrames(
         "n", "frames",
         "number of frames spread over the whole path (0 = the trajectory's default; fewer frames "
@@ -68,6 +70,23 @@ int main(int argc, char** argv) {
         "colour anti-aliasing: render K x K samples per pixel and average them (odd K: 1 = off, "
         "3 = default); depth is always the exact z at the pixel centre",
         false, 3, "K", cmd);
+    TCLAP::ValueArg<double> argExposure(
+        "", "exposure-ms", "motion blur: colour integrated over this exposure time (default 0)",
+        false, 0.0, "MS", cmd);
+    TCLAP::ValueArg<double> argRollingShutter(
+        "", "rolling-shutter-ms",
+        "rolling shutter: the bottom row is exposed this long after the top row (default 0)", false,
+        0.0, "MS", cmd);
+    TCLAP::SwitchArg argAutoExposure(
+        "", "auto-exposure", "a slowly changing colour gain (0.6-1.5), saturating at white", cmd);
+    TCLAP::ValueArg<double> argDepthOffset(
+        "", "depth-offset-ms", "depth captured this long after colour (negative: before)", false,
+        0.0, "MS", cmd);
+    TCLAP::SwitchArg argHandHeld(
+        "", "hand-held",
+        "the hand-held camera preset: --exposure-ms 10 --rolling-shutter-ms 20 --auto-exposure "
+        "--depth-offset-ms 5 (options given explicitly win)",
+        cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
     if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "synthetic-rgbd"))
       return *exitCode;
@@ -80,6 +99,11 @@ int main(int argc, char** argv) {
     opts.kinectDepth = argKinect.getValue();
     opts.externalImages = argExternal.getValue();
     opts.supersampling = argSupersampling.getValue();
+    if (argHandHeld.getValue()) opts.enableHandHeldEffects();
+    if (argExposure.isSet()) opts.exposureMs = argExposure.getValue();
+    if (argRollingShutter.isSet()) opts.rollingShutterMs = argRollingShutter.getValue();
+    if (argAutoExposure.isSet()) opts.autoExposure = true;
+    if (argDepthOffset.isSet()) opts.depthTimeOffsetMs = argDepthOffset.getValue();
     opts.validate();  // a clear error before any rendering or file output
 
     const bool quiet = argQuiet.getValue();
@@ -105,8 +129,14 @@ int main(int argc, char** argv) {
     std::printf("  path length:      %.3f m, total rotation %.1f deg\n", st.pathLength,
                 st.totalRotationDeg);
     std::printf("  max speed:        %.2f m/s, %.1f deg/s\n", st.maxSpeed, st.maxAngularSpeedDeg);
-    if (st.maxSpeed > 0.6 || st.maxAngularSpeedDeg > 45)
+    if (st.maxSpeed > 0.6 || st.maxAngularSpeedDeg > 100)
       std::printf("  note:             faster than a hand-held camera (use more --frames)\n");
+    if (opts.motionEffects() || opts.autoExposure || opts.depthTimeOffsetMs != 0)
+      std::printf(
+          "  camera effects:   exposure %.1f ms, rolling shutter %.1f ms, auto exposure "
+          "%s, depth %+.1f ms after colour\n",
+          opts.exposureMs, opts.rollingShutterMs, opts.autoExposure ? "on" : "off",
+          opts.depthTimeOffsetMs);
     if (opts.depthNoiseSigma > 0)
       std::printf("  depth noise:      sigma %.4f m\n", opts.depthNoiseSigma);
     std::printf("  rawlog:           %s\n", sum.rawlogPath.c_str());

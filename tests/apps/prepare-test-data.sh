@@ -34,4 +34,10 @@ convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
 synthetic synthetic_loop loop
 synthetic synthetic_sweep sweep
 synthetic synthetic_loop_kinect loop --kinect-depth
+# Hand-held motion through a hand-held camera (blur, rolling shutter, auto exposure, depth offset;
+# the exposure averages several renders, which also smooths edges: no supersampling needed).
+for t in rotations shake; do
+  synthetic handheld_$t $t --hand-held --supersampling 1
+  synthetic handheld_${t}_kinect $t --hand-held --supersampling 1 --kinect-depth
+done
 ls -l "$out"

@@ -92,13 +92,32 @@ void SyntheticOptions::validate() const {
   if (!(depthNoiseSigma >= 0) || depthNoiseSigma > 1.0)
     throw std::invalid_argument("depth noise sigma must be in [0, 1] m, not " +
                                 std::to_string(depthNoiseSigma));
+  auto inRange = [](double v, double lo, double hi, const char* what) {
+    if (!(v >= lo && v <= hi))
+      throw std::invalid_argument(std::string(what) + " must be in [" + std::to_string(lo) + ", " +
+                                  std::to_string(hi) + "] ms, not " + std::to_string(v));
+  };
+  inRange(exposureMs, 0, 100, "exposure time");
+  inRange(rollingShutterMs, 0, 100, "rolling-shutter readout time");
+  inRange(depthTimeOffsetMs, -100, 100, "depth time offset");
+  if (motionSamples < 0 || motionSamples > 200)
+    throw std::invalid_argument("motion samples must be in [0, 200], not " +
+                                std::to_string(motionSamples));
   if (supersampling < 1 || supersampling % 2 == 0 || supersampling > 7)
     throw std::invalid_argument("supersampling must be 1, 3, 5 or 7");
+}
+
+void SyntheticOptions::enableHandHeldEffects() {
+  exposureMs = 10;
+  rollingShutterMs = 20;
+  autoExposure = true;
+  depthTimeOffsetMs = 5;
 }
 
 SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_(options) {
   options_.validate();
   groundTruth_ = SyntheticTrajectory::generate(options_.trajectory, options_.frames);
+  poseAt_ = SyntheticTrajectory::shape(options_.trajectory, options_.frames);
   scene_ = std::make_unique<SyntheticScene>(
       FloorPlan::named(SyntheticTrajectory::sceneOf(options_.trajectory)), options_.seed,
       options_.ceiling);
@@ -107,12 +126,100 @@ SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_
 
 SyntheticSequence::~SyntheticSequence() = default;
 
+double SyntheticSequence::exposureGain(size_t i) const {
+  if (!options_.autoExposure) return 1.0;
+  // Two incommensurate drifts, phased by the seed: the gain wanders between about 0.6 and 1.5
+  // within seconds, as a camera's auto exposure does when the view turns from a bright wall to
+  // a dark corner.
+  const double t = double(i) / SyntheticTrajectory::kFrameRate;
+  const double p = 1.7 * options_.seed;
+  return std::exp(0.3 * std::sin(2 * M_PI * t / 5.3 + p) +
+                  0.15 * std::sin(2 * M_PI * t / 1.9 + 2.3 * p));
+}
+
+double SyntheticSequence::imageMotion(double fromFrame, double toFrame) const {
+  // Points 2 m in front of the camera at the image corners and centre: the largest distance
+  // one of them moves in the image.
+  const CameraIntrinsics K = options_.intrinsics();
+  const Pose from = poseAt_(fromFrame), to = poseAt_(toFrame);
+  const Pose toFromFrom = to.inverse() * from;
+  double largest = 0;
+  for (const auto& [u, v] : {std::pair{0.0, 0.0}, {K.width - 1.0, 0.0}, {0.0, K.height - 1.0},
+                             {K.width - 1.0, K.height - 1.0}, {K.cx, K.cy}}) {
+    const Eigen::Vector3d p(2.0 * (u - K.cx) / K.fx, 2.0 * (v - K.cy) / K.fy, 2.0);
+    const Eigen::Vector3d q = toFromFrom * p;
+    if (q.z() <= 0) return 1e3;
+    largest = std::max(largest, std::hypot(K.fx * q.x() / q.z() + K.cx - u,
+                                           K.fy * q.y() / q.z() + K.cy - v));
+  }
+  return largest;
+}
+
+cv::Mat SyntheticSequence::renderMotion(size_t i) {
+  // In frames: the exposure of one row, and the readout from the top row to the bottom one.
+  const double framesPerMs = SyntheticTrajectory::kFrameRate / 1000.0;
+  const double exposure = options_.exposureMs * framesPerMs;
+  const double readout = options_.rollingShutterMs * framesPerMs;
+  // Renders spread evenly over every row's exposure, each standing for a slice of time of
+  // length `slice`: by default as many as keep the image motion between two renders under
+  // 1.5 px (a few while the hand holds still, about 17 at 90 deg/s in VGA).
+  const double span = exposure + readout;
+  const int renders = options_.motionSamples > 0
+                          ? options_.motionSamples
+                          : std::clamp(static_cast<int>(std::ceil(
+                                           imageMotion(i - span / 2, i + span / 2) / 1.5)),
+                                       2, 48);
+  const double slice = span / renders;
+  // Row r is exposed over [t_r - w/2, t_r + w/2], t_r spread over the readout around frame i.
+  const double window = std::max(exposure, slice);
+  const int rows = options_.height;
+  std::vector<double> rowTime(rows);
+  for (int r = 0; r < rows; ++r) rowTime[r] = i + ((r + 0.5) / rows - 0.5) * readout;
+
+  cv::Mat sum(rows, options_.width, CV_32FC3, cv::Scalar::all(0));
+  std::vector<double> rowWeight(rows, 0.0);
+  cv::Mat bgr, depth, bgrF;
+  for (int j = 0; j < renders; ++j) {
+    const double t = i - span / 2 + (j + 0.5) * slice;
+    // Each row takes the render by the time the two slices share.
+    bool used = false;
+    std::vector<double> weight(rows, 0.0);
+    for (int r = 0; r < rows; ++r) {
+      const double overlap = std::min(t + slice / 2, rowTime[r] + window / 2) -
+                             std::max(t - slice / 2, rowTime[r] - window / 2);
+      if (overlap > 0) weight[r] = overlap, used = true;
+    }
+    if (!used) continue;
+    renderer_->render(scene_->scene(), poseAt_(t), bgr, depth);
+    bgr.convertTo(bgrF, CV_32FC3);
+    for (int r = 0; r < rows; ++r) {
+      if (weight[r] <= 0) continue;
+      cv::Mat row = sum.row(r);
+      cv::scaleAdd(bgrF.row(r), weight[r], row, row);
+      rowWeight[r] += weight[r];
+    }
+  }
+  for (int r = 0; r < rows; ++r)
+    if (rowWeight[r] > 0) sum.row(r) /= rowWeight[r];
+  return sum;
+}
+
 void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
   if (i >= size())
     throw std::out_of_range("synthetic frame " + std::to_string(i) + " of " +
                             std::to_string(size()));
-  cv::Mat depth;
-  renderer_->render(scene_->scene(), groundTruth_[i].pose, bgr, depth);
+  const double depthFrame =
+      i + options_.depthTimeOffsetMs * SyntheticTrajectory::kFrameRate / 1000.0;
+  const bool separateDepth = options_.motionEffects() || options_.depthTimeOffsetMs != 0;
+  cv::Mat colour, depth, unused;
+  renderer_->render(scene_->scene(), separateDepth ? poseAt_(depthFrame) : groundTruth_[i].pose,
+                    colour, depth);
+  if (options_.motionEffects())
+    colour = renderMotion(i);
+  else if (separateDepth)
+    renderer_->render(scene_->scene(), groundTruth_[i].pose, colour, unused);
+  // Gain, then 8 bits (saturating at white).
+  colour.convertTo(bgr, CV_8UC3, exposureGain(i));
   if (options_.kinectDepth)
     depth = kinectDepth(depth, options_.fx, frameSeed(options_.seed, i) + 1);
   if (options_.depthNoiseSigma > 0) {

@@ -52,7 +52,8 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
       extractor_(featureOptions),
       policy_(options.keyframes),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
-      localMap_(options.localMapOptions(), graph_) {
+      localMap_(options.localMapOptions(), graph_),
+      sensorTiming_(options.sensorTiming) {
   for (KeyframeId id : graph_->ids()) {
     nextKeyframeId_ = std::max(nextKeyframeId_, id + 1);
     newestKeyframe_ = id;
@@ -70,6 +71,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   TrackingResult r;
   r.timestamp = frame.timestamp();
   r.pose = lastPose_;
+  const double previousTimestamp = lastTimestamp_;
+  lastTimestamp_ = frame.timestamp();
 
   // Every frame counts for the pools' hand-over, tracked or not.
   auto t = Clock::now();
@@ -78,6 +81,14 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 
   t = Clock::now();
   FeatureSet features = extractor_.extract(frame);
+  // Rolling shutter and depth offset, undone with the motion since the last frame (constant
+  // velocity; nothing to undo without it), and again below with the motion measured.
+  const bool compensating = sensorTiming_.enabled() && lastMotion_ && lastMotionMs_ > 0;
+  FeatureSet rawFeatures;
+  if (compensating) {
+    rawFeatures = features;
+    sensorTiming_.compensate(features, frame, *lastMotion_, lastMotionMs_);
+  }
   r.timings.features = msSince(t);
   r.features = features.size();
 
@@ -120,6 +131,10 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
       matchingWholeMap_ ? wholeMapPool(frame.intrinsics(), r) : localMap_.pool();
   bool registered = enoughFeatures && !startingFromMap &&
                     registerFrame(pool, frame, features, r, inlierMatches, pose);
+  if (registered && compensating)
+    reregisterWithMeasuredMotion(pool, frame, rawFeatures,
+                                 1000.0 * (frame.timestamp() - previousTimestamp), features, r,
+                                 inlierMatches, pose);
   if (!registered && enoughFeatures &&
       (startingFromMap ||
        (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
@@ -187,6 +202,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     if (r.relocalized) matchingWholeMap_ = localMap_.windowPending();
   }
   lastMotion_ = lost_ ? std::nullopt : std::optional<Pose>(lastPose_.inverse() * pose);
+  lastMotionMs_ = 1000.0 * (frame.timestamp() - previousTimestamp);
   lastPose_ = pose;
   lastReference_ = r.reference;
   lost_ = false;
@@ -247,11 +263,37 @@ bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pos
   return true;
 }
 
+void Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
+                                           const FeatureSet& raw, double intervalMs,
+                                           FeatureSet& features, TrackingResult& r,
+                                           std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+  // The motion over the interval that ends at this frame, extrapolated to the frame's instant
+  // by the change from the previous interval (a hand accelerates quickly: a shaking camera
+  // reverses within a few frames, and the previous interval alone points the wrong way).
+  const Pose measured = lastPose_.inverse() * pose;
+  const Pose change = lastMotion_->inverse() * measured;
+  const Pose atFrame = measured * SensorTiming::interpolate(change, 0.5);
+  FeatureSet again = raw;
+  sensorTiming_.compensate(again, frame, atFrame, intervalMs);
+  TrackingResult second = r;
+  std::vector<PoolMatch> secondInliers;
+  Pose secondPose;
+  const std::vector<PoolMatch> matches = lastMatches_;
+  if (!registerFrame(pool, frame, again, second, secondInliers, secondPose, &matches)) return;
+  r = second;
+  inlierMatches = std::move(secondInliers);
+  pose = secondPose;
+  features = std::move(again);
+}
+
 bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
                             const FeatureSet& features, TrackingResult& r,
-                            std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+                            std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                            const std::vector<PoolMatch>* knownMatches) {
   auto t = Clock::now();
-  const std::vector<PoolMatch> matches = pool.match(features.descriptors, options_.ratioThreshold);
+  const std::vector<PoolMatch> matches =
+      knownMatches ? *knownMatches : pool.match(features.descriptors, options_.ratioThreshold);
+  lastMatches_ = matches;
   r.timings.matching += msSince(t);
   r.matches = matches.size();
   r.poolSize = pool.size();

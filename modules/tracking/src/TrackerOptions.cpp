@@ -71,6 +71,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthEdgeMaxMatches = r.readInt("depth_edge_max_matches", depthEdgeMaxMatches);
   depthEdgeWeight = r.readDouble("depth_edge_weight", depthEdgeWeight);
   depthOnlyFallback = r.readBool("depth_only_fallback", depthOnlyFallback);
+  sensorTiming.rollingShutterMs = r.readDouble("rolling_shutter_ms", sensorTiming.rollingShutterMs);
+  sensorTiming.depthTimeOffsetMs =
+      r.readDouble("depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
   depthOnly.minAssociatedFraction =
       r.readDouble("depth_only_min_overlap", depthOnly.minAssociatedFraction);
   depthOnly.maxRmsResidual = r.readDouble("depth_only_max_residual", depthOnly.maxRmsResidual);
@@ -120,6 +123,11 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(depthOnly.maxRmsResidual > 0, "depth_only_max_residual must be > 0");
   require(depthOnly.minConstraint >= 0, "depth_only_min_constraint must be >= 0");
   require(pool.searchThreads >= 1, "search_threads must be >= 1");
+  require(sensorTiming.rollingShutterMs >= 0 && sensorTiming.rollingShutterMs <= 100,
+          "rolling_shutter_ms must be in [0, 100]");
+  require(std::abs(sensorTiming.depthTimeOffsetMs) <= 100,
+          "depth_time_offset_ms must be in [-100, 100]");
+  require(pool.bruteForceBelow >= 0, "pool_brute_force_below must be >= 0");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
   require(ransac.maxIterations >= 1, "ransac_max_iterations must be >= 1");
@@ -158,6 +166,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_edge_max_matches", depthEdgeMaxMatches);
   cfg.write(s, "depth_edge_weight", depthEdgeWeight);
   cfg.write(s, "depth_only_fallback", depthOnlyFallback);
+  cfg.write(s, "rolling_shutter_ms", sensorTiming.rollingShutterMs);
+  cfg.write(s, "depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
   cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);
   cfg.write(s, "depth_only_max_residual", depthOnly.maxRmsResidual);
   cfg.write(s, "depth_only_min_constraint", depthOnly.minConstraint);

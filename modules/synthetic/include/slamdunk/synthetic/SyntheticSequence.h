@@ -35,11 +35,24 @@ struct SyntheticOptions {
   /// Simulate a Kinect v1's depth (structured-light disparity: lateral jitter, disparity noise,
   /// 1/8-pixel quantisation) instead of exact depth; see kinectDepth().
   bool kinectDepth = false;
+  /// Hand-held camera effects on the colour image, each off at 0 / false. Frame i's ground-truth
+  /// pose is the colour camera's at the middle of its exposure and readout.
+  double exposureMs = 0;  ///< motion blur: colour integrates the image over this exposure time
+  double rollingShutterMs = 0;   ///< row readout: the bottom row is exposed this much after the top
+  bool autoExposure = false;     ///< a changing gain (exposureGain()), saturating at white
+  double depthTimeOffsetMs = 0;  ///< depth is captured this much after colour (may be negative)
+  /// Renders per frame for blur / rolling shutter (0 = enough for 1.5 px of image motion between
+  /// two; with blur, supersampling 1 is usually enough: the renders average anyway).
+  int motionSamples = 0;
   bool externalImages = false;  ///< writeSyntheticSequence: images in <name>_Images/
   int supersampling = 3;        ///< colour anti-aliasing factor (odd), see SyntheticRenderer
   bool ceiling = true;
 
   CameraIntrinsics intrinsics() const;
+  bool motionEffects() const { return exposureMs > 0 || rollingShutterMs > 0; }
+  /// The hand-held preset: 10 ms exposure, 20 ms rolling shutter, auto exposure and depth 5 ms
+  /// after colour (a Kinect v1 / Xtion-like camera, whose streams are not synchronised).
+  void enableHandHeldEffects();
   /// Throws std::invalid_argument naming the first bad option.
   void validate() const;
 };
@@ -67,6 +80,10 @@ class SyntheticSequence {
   const SyntheticOptions& options() const { return options_; }
   const SyntheticScene& scene() const { return *scene_; }
 
+  /// The auto-exposure gain applied to frame i's colour (1 without autoExposure): a slow
+  /// random-looking drift between about 0.6 and 1.5, seeded.
+  double exposureGain(size_t i) const;
+
   /// Frame i as an observation (colour and depth in memory).
   mrpt::obs::CObservation3DRangeScan::Ptr renderFrame(size_t i);
   /// Frame i as images: BGR CV_8UC3 and z-depth CV_32F metres (already quantised to 1/5000 m
@@ -75,8 +92,13 @@ class SyntheticSequence {
 
  private:
   void renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw);
+  /// Colour exposed over time: blur and rolling shutter from renders at sub-frame poses.
+  cv::Mat renderMotion(size_t i);
+  /// Largest image motion (px) of scene points 2 m away between two (fractional) frames.
+  double imageMotion(double fromFrame, double toFrame) const;
   SyntheticOptions options_;
   Trajectory groundTruth_;
+  SyntheticTrajectory::PoseAtFrame poseAt_;
   std::unique_ptr<SyntheticScene> scene_;
   std::unique_ptr<SyntheticRenderer> renderer_;
 };

@@ -6,6 +6,7 @@
 
 #include <slamdunk/core/TumTrajectory.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,14 @@ class SyntheticTrajectory {
   ///   forward while panning 30 degrees, eased in and out, facing the +z wall and its boxes.
   /// "loop": a closed loop (400 frames, 13.3 s) on a 1 m circle around the room centre, looking
   ///   outward and sideways at the walls, turning 360 degrees; the last pose equals the first.
-  /// Both in the "room" scene.
+  /// Hand-held ones, laid out in time (more frames make them longer, not slower):
+  /// "rotations": standing near the room centre, quick minimum-jerk sweeps about each axis and
+  ///   combined (peak 83-89 deg/s, hand-like acceleration), short holds; 11 s, ends where it began.
+  /// "shake": a slow sideways sweep under a shaking hand (mm to 1.5 cm at 3-7 Hz, 1-2 deg at
+  ///   3-8 Hz); 10 s.
+  /// "scan": a 2.5-minute room scan, two laps of an oval around the centre looking outward with
+  ///   +-35 deg swings (every place is seen again on the second lap); stretched like "loop".
+  /// All but "tour" in the "room" scene.
   /// "tour": once round the "office" scene's ring of four rooms and corridors (3300 frames,
   ///   110 s, 55 m): walking pace 0.45-0.55 m/s, 2 m arcs through each room, a few cm of
   ///   sway and bob, a few degrees of roll and pitch wobble. The camera looks 27-43 degrees to
@@ -50,6 +58,12 @@ class SyntheticTrajectory {
   /// std::invalid_argument for an unknown name or fewer than 2 frames.
   static Trajectory generate(const std::string& name, int frames = 0,
                              double startTime = kStartTime);
+
+  /// Pose T_w_opt at a fractional frame index (frame i is generate()'s i-th pose): the camera
+  /// between frames, for motion blur, rolling shutter and sensor time offsets. Same arguments
+  /// and errors as generate().
+  using PoseAtFrame = std::function<Pose(double frame)>;
+  static PoseAtFrame shape(const std::string& name, int frames = 0);
 
   static TrajectoryStats stats(const Trajectory& trajectory);
 };

@@ -74,8 +74,17 @@ class Tracker {
  private:
   TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r);
   /// Matches against `pool` and estimates the pose; false (with r.lostReason) on failure.
+  /// `matches`: the pool matches of these features if already known (else matched here).
   bool registerFrame(const FeaturePool& pool, const RgbdFrame& frame, const FeatureSet& features,
-                     TrackingResult& r, std::vector<PoolMatch>& inlierMatches, Pose& pose);
+                     TrackingResult& r, std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                     const std::vector<PoolMatch>* matches = nullptr);
+  /// Second pass of the sensor-timing compensation: with the motion just measured, the
+  /// features' points are moved again from `raw` and the frame registered with the same
+  /// matches. Keeps the first result if that fails.
+  void reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
+                                    const FeatureSet& raw, double intervalMs, FeatureSet& features,
+                                    TrackingResult& r, std::vector<PoolMatch>& inlierMatches,
+                                    Pose& pose);
   /// Dense depth term against the keyframe sharing most inliers (empty if it has no depth).
   std::optional<DepthAlignmentTerm> depthTermFor(const RgbdFrame& frame, const FeaturePool& pool,
                                                  const std::vector<PoolMatch>& matches,
@@ -112,9 +121,13 @@ class Tracker {
   std::optional<DepthAlignmentTerm> lastDepthTerm_;  ///< of the last registered frame
   KeyframeId lastDepthReference_ = 0;
   Pose lastPose_ = Pose::Identity();
-  std::optional<Pose> lastMotion_;  ///< between the last two frames, if both were tracked
-  KeyframeId lastReference_ = 0;    ///< of the last tracked frame
-  cv::Mat fittedNormals_;           ///< of fittedNormalsKeyframe_'s depth, for depth alone
+  std::optional<Pose> lastMotion_;      ///< between the last two frames, if both were tracked
+  double lastMotionMs_ = 0;             ///< the time between those two frames
+  std::vector<PoolMatch> lastMatches_;  ///< all pool matches of the last registered frame
+  double lastTimestamp_ = 0;            ///< of the last frame processed
+  SensorTiming sensorTiming_;
+  KeyframeId lastReference_ = 0;  ///< of the last tracked frame
+  cv::Mat fittedNormals_;         ///< of fittedNormalsKeyframe_'s depth, for depth alone
   KeyframeId fittedNormalsKeyframe_ = 0;
   bool lost_ = false;
   bool poolDirty_ = false;

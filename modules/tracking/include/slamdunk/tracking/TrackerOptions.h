@@ -6,6 +6,7 @@
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/LocalMap.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
+#include <slamdunk/tracking/SensorTiming.h>
 
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -61,6 +62,9 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// alone with the reference keyframe's (textureless scenes), see DepthOnlyRegistration.h.
   bool depthOnlyFallback = true;
   DepthOnlyOptions depthOnly;
+  /// Rolling shutter and colour-depth time offset of the camera, undone with the predicted
+  /// motion (SensorTiming.h); 0 = every pixel at the frame's time.
+  SensorTimingOptions sensorTiming;
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
