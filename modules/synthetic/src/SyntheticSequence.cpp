@@ -144,13 +144,14 @@ double SyntheticSequence::imageMotion(double fromFrame, double toFrame) const {
   const Pose from = poseAt_(fromFrame), to = poseAt_(toFrame);
   const Pose toFromFrom = to.inverse() * from;
   double largest = 0;
-  for (const auto& [u, v] : {std::pair{0.0, 0.0}, {K.width - 1.0, 0.0}, {0.0, K.height - 1.0},
-                             {K.width - 1.0, K.height - 1.0}, {K.cx, K.cy}}) {
-    const Eigen::Vector3d p(2.0 * (u - K.cx) / K.fx, 2.0 * (v - K.cy) / K.fy, 2.0);
-    const Eigen::Vector3d q = toFromFrom * p;
+  for (const auto& [u, v] : {std::pair{0.0, 0.0},
+                             {K.width - 1.0, 0.0},
+                             {0.0, K.height - 1.0},
+                             {K.width - 1.0, K.height - 1.0},
+                             {K.cx, K.cy}}) {
+    const Eigen::Vector3d q = toFromFrom * K.backProject(u, v, 2.0);
     if (q.z() <= 0) return 1e3;
-    largest = std::max(largest, std::hypot(K.fx * q.x() / q.z() + K.cx - u,
-                                           K.fy * q.y() / q.z() + K.cy - v));
+    largest = std::max(largest, (K.project(q) - Eigen::Vector2d(u, v)).norm());
   }
   return largest;
 }
@@ -164,11 +165,11 @@ cv::Mat SyntheticSequence::renderMotion(size_t i) {
   // length `slice`: by default as many as keep the image motion between two renders under
   // 1.5 px (a few while the hand holds still, about 17 at 90 deg/s in VGA).
   const double span = exposure + readout;
-  const int renders = options_.motionSamples > 0
-                          ? options_.motionSamples
-                          : std::clamp(static_cast<int>(std::ceil(
-                                           imageMotion(i - span / 2, i + span / 2) / 1.5)),
-                                       2, 48);
+  const int renders =
+      options_.motionSamples > 0
+          ? options_.motionSamples
+          : std::clamp(static_cast<int>(std::ceil(imageMotion(i - span / 2, i + span / 2) / 1.5)),
+                       2, 48);
   const double slice = span / renders;
   // Row r is exposed over [t_r - w/2, t_r + w/2], t_r spread over the readout around frame i.
   const double window = std::max(exposure, slice);

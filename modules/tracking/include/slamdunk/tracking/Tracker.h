@@ -123,7 +123,7 @@ class Tracker {
   Pose lastPose_ = Pose::Identity();
   std::optional<Pose> lastMotion_;      ///< between the last two frames, if both were tracked
   double lastMotionMs_ = 0;             ///< the time between those two frames
-  std::vector<PoolMatch> lastMatches_;  ///< all pool matches of the last registered frame
+  std::vector<PoolMatch> lastMatches_;  ///< last frame's pool matches (kept only with SensorTiming)
   double lastTimestamp_ = 0;            ///< of the last frame processed
   SensorTiming sensorTiming_;
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
