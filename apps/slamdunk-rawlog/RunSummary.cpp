@@ -24,6 +24,9 @@ double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compu
 double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p95; }
 double p99(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p99; }
 double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+double perKeyframeKiB(const GraphMemory& m, size_t bytes) {
+  return m.keyframes ? bytes / 1024.0 / m.keyframes : 0.0;
+}
 template <class F>
 std::vector<double> column(const std::vector<StageTimings>& t, F f) {
   std::vector<double> out;
@@ -79,6 +82,13 @@ void printRunSummary(const RunFigures& f, bool json) {
         "%.4f,\n",
         s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
     std::printf("  \"first_tracked_frame\": %ld,\n", f.firstTrackedFrame);
+    const GraphMemory& m = f.mapMemory;
+    std::printf(
+        "  \"map_kib_features\": %.1f, \"map_kib_depth_small\": %.1f, \"map_kib_edges\": %.1f, "
+        "\"map_kib_images\": %.1f, \"map_kib_per_keyframe\": %.1f, "
+        "\"map_kib_per_keyframe_with_images\": %.1f,\n",
+        m.features / 1024.0, m.depthSmall / 1024.0, m.edges / 1024.0, m.images / 1024.0,
+        perKeyframeKiB(m, m.withoutImages()), perKeyframeKiB(m, m.total()));
     std::printf("  \"fps\": %.2f, \"wall_s\": %.3f, \"peak_rss_mib\": %.1f", fps, f.wallSeconds,
                 f.peakRssKiB / 1024.0);
     if (f.ate)
@@ -121,6 +131,12 @@ void printRunSummary(const RunFigures& f, bool json) {
                 maxOf(wait));
   std::printf("  speed:           %.1f frames/s over %.2f s (whole app)\n", fps, f.wallSeconds);
   std::printf("  peak memory:     %.1f MiB\n", f.peakRssKiB / 1024.0);
+  const GraphMemory& m = f.mapMemory;
+  std::printf(
+      "  map data:        %.1f KiB per keyframe (features %.1f, small depth %.1f, edges %.1f); "
+      "%.1f with images\n",
+      perKeyframeKiB(m, m.withoutImages()), perKeyframeKiB(m, m.features),
+      perKeyframeKiB(m, m.depthSmall), perKeyframeKiB(m, m.edges), perKeyframeKiB(m, m.total()));
   if (f.ate)
     std::printf(
         "  ATE:             rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs, %zu "

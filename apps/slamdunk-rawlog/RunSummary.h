@@ -19,6 +19,7 @@ struct RunFigures {
   double wallSeconds = 0;        ///< whole run: reading, decoding, tracking, optimizing
   std::vector<double> decodeMs;  ///< per frame: rawlog read + image decode
   long peakRssKiB = 0;
+  GraphMemory mapMemory;        ///< the keyframe graph's data at the end, counted directly
   long firstTrackedFrame = -1;  ///< index of the first frame not lost (relocalization delay)
   std::optional<AteFigures> ate;
 };

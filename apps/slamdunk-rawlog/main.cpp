@@ -232,6 +232,7 @@ int main(int argc, char** argv) {
     fig.wallSeconds = msSince(start) / 1000.0;
     fig.stats = slam.statistics();
     fig.edges = slam.graph()->edgeCount();
+    fig.mapMemory = slam.graph()->memory();
     fig.peakRssKiB = peakResidentKiB();
 
     const Trajectory traj = slam.trajectory();

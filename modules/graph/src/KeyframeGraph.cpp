@@ -46,6 +46,26 @@ void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
   }
 }
 
+namespace {
+size_t matBytes(const cv::Mat& m) { return m.empty() ? 0 : m.total() * m.elemSize(); }
+}  // namespace
+
+GraphMemory KeyframeGraph::memory() const {
+  std::shared_lock lock(mutex_);
+  GraphMemory m;
+  m.keyframes = keyframes_.size();
+  for (const auto& [id, kf] : keyframes_) {
+    const FeatureSet& f = kf->features;
+    m.features += sizeof(Keyframe) + f.keypoints.capacity() * sizeof(cv::KeyPoint) +
+                  matBytes(f.descriptors) + f.points.capacity() * sizeof(Eigen::Vector3d);
+    m.depthSmall += matBytes(kf->depthSmall);
+    m.images += matBytes(kf->colour) + matBytes(kf->depth);
+  }
+  for (const auto& [key, e] : edges_)
+    m.edges += sizeof(KeyframeEdge) + e.matches.capacity() * sizeof(PointMatch);
+  return m;
+}
+
 size_t KeyframeGraph::keyframeCount() const {
   std::shared_lock lock(mutex_);
   return keyframes_.size();

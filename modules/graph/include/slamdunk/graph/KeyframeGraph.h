@@ -35,6 +35,18 @@ struct KeyframeEdge {
   std::vector<PointMatch> matches;
 };
 
+/// Bytes the graph's data takes, counted from the containers (what an allocator adds, and the
+/// feature pool, whose size follows the window, are not in it).
+struct GraphMemory {
+  size_t keyframes = 0;
+  size_t features = 0;    ///< keypoints, descriptors and 3D points
+  size_t depthSmall = 0;  ///< the subsampled depth of the dense alignment
+  size_t images = 0;      ///< colour and depth, when kept
+  size_t edges = 0;       ///< point matches and the edge records
+  size_t withoutImages() const { return features + depthSmall + edges; }
+  size_t total() const { return withoutImages() + images; }
+};
+
 class KeyframeGraph {
  public:
   /// Adds a keyframe with its world pose (optical frame). Ids must be new.
@@ -62,6 +74,7 @@ class KeyframeGraph {
   /// Copies of the edges whose both endpoints are in the set.
   std::vector<KeyframeEdge> edgesWithin(const std::map<KeyframeId, int>& vertices) const;
   std::vector<KeyframeEdge> allEdges() const;
+  GraphMemory memory() const;
 
  private:
   using EdgeKey = std::pair<KeyframeId, KeyframeId>;
