@@ -1,5 +1,6 @@
 #include "LiveOptions.h"
 
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
 
 #include <filesystem>
@@ -15,8 +16,10 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
   LiveOptions o;
   o.iniPath = path;
   o.iniDir = fs::path(path).parent_path().string();
-  o.config = std::make_shared<mrpt::config::CConfigFile>(path);
   try {
+    // Inside the try: MRPT's parser itself throws on some malformed files (e.g. "${X}" naming
+    // an undefined variable), and that error must name the file too.
+    o.config = std::make_shared<mrpt::config::CConfigFile>(path);
     IniSectionReader r(*o.config, kSection);
     if (!r.sectionExists()) throw std::runtime_error(std::string("no [") + kSection + "] section");
     o.sourceSection = r.readString("source", "");
@@ -48,7 +51,7 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     o.slam.tracker.poolHandoverFrames = 0;
     o.slam.loadFromConfigFile(*o.config, kPipelinePrefix);
   } catch (const std::exception& e) {
-    throw std::runtime_error("configuration file '" + path + "': " + e.what());
+    throw std::runtime_error("configuration file '" + path + "': " + summarizeError(e.what()));
   }
   return o;
 }

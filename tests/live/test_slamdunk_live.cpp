@@ -81,14 +81,23 @@ TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
       live.value("frames_received"), live.value("frames_dropped"), live.value("frames_processed"),
       live.value("fps_processed"), liveAte, offlineAte, live.value("optimizations"));
   EXPECT_EQ(live.value("frames_received"), 1000) << live.result.output;
-  EXPECT_EQ(live.value("frames_dropped"), 0) << live.result.output;
-  EXPECT_EQ(live.value("frames_processed"), 1000) << live.result.output;
   // Paced by the timestamps: 1000 frames at 30 Hz take 33.3 s, not the offline app's ~15 s.
   EXPECT_NEAR(live.value("active_s"), 33.3, 1.5) << live.result.output;
+  EXPECT_EQ(readTumTrajectory(live.trajectory).size(), live.value("tracked"));
+#ifdef SLAMDUNK_SANITIZED
+  // Sanitized code cannot keep up with 30 Hz: frames are dropped, so neither "no drops" nor
+  // "the offline accuracy" holds. The Release suite checks both; here the session must only
+  // account for every frame.
+  std::printf("sanitizer build: real-time assertions (no drops, offline ATE) skipped\n");
+  EXPECT_EQ(live.value("frames_processed") + live.value("frames_dropped"), 1000)
+      << live.result.output;
+#else
+  EXPECT_EQ(live.value("frames_dropped"), 0) << live.result.output;
+  EXPECT_EQ(live.value("frames_processed"), 1000) << live.result.output;
   EXPECT_LE(std::abs(liveAte - offlineAte), 0.10 * offlineAte)
       << "live " << liveAte << " m vs offline " << offlineAte << " m\n"
       << live.result.output << offline.output;
-  EXPECT_EQ(readTumTrajectory(live.trajectory).size(), live.value("tracked"));
+#endif
 }
 
 TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {

@@ -2,12 +2,31 @@
 
 #include <mrpt/img/TCamera.h>
 
+#include <cmath>
+
 namespace slamdunk {
 
 bool CameraIntrinsics::hasDistortion() const {
   for (double d : dist)
     if (d != 0.0) return true;
   return false;
+}
+
+std::string CameraIntrinsics::problem() const {
+  if (width <= 0 || height <= 0)
+    return "resolution " + std::to_string(width) + "x" + std::to_string(height) +
+           " is not positive";
+  for (double v : {fx, fy, cx, cy})
+    if (!std::isfinite(v)) return "fx, fy, cx and cy must be finite numbers";
+  if (!(fx >= 1e-3 && fx <= 1e6 && fy >= 1e-3 && fy <= 1e6))
+    return "focal lengths fx = " + std::to_string(fx) + ", fy = " + std::to_string(fy) +
+           " must be in [0.001, 1e6] pixels";
+  if (std::abs(cx) > 1e6 || std::abs(cy) > 1e6)
+    return "principal point (" + std::to_string(cx) + ", " + std::to_string(cy) +
+           ") is more than 1e6 pixels away";
+  for (double d : dist)
+    if (!(std::abs(d) <= 1000.0)) return "distortion coefficients must be finite, within +-1000";
+  return {};
 }
 
 Eigen::Vector2d CameraIntrinsics::undistortPixel(double u, double v) const {

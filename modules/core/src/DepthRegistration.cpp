@@ -20,9 +20,11 @@ cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& dept
 
   // A depth pixel covers about this many colour pixels (per axis) at equal depth: a colour
   // camera with the longer focal length would otherwise see holes between the projections.
-  const int footprint = std::max(
-      1, static_cast<int>(std::ceil(
-             std::max(colourCamera.fx / depthCamera.fx, colourCamera.fy / depthCamera.fy) - 1e-9)));
+  // At most 16: beyond that the depth image is far too coarse to register anyway, and a
+  // corrupt focal length must neither overflow the cast nor make this loop quadratic.
+  const double ratio = std::max(colourCamera.fx / depthCamera.fx, colourCamera.fy / depthCamera.fy);
+  const int footprint =
+      std::isfinite(ratio) ? static_cast<int>(std::clamp(std::ceil(ratio - 1e-9), 1.0, 16.0)) : 1;
   cv::Mat out(colourCamera.height, colourCamera.width, CV_32F, cv::Scalar(0));
   for (int r = 0; r < depthF.rows; ++r) {
     const float* row = depthF.ptr<float>(r);
@@ -34,6 +36,9 @@ cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& dept
       if (!(p.z() > 0)) continue;
       const Eigen::Vector2d px = colourCamera.project(p);
       const Eigen::Vector2d raw = colourCamera.distortPixel(px.x(), px.y());
+      // Far outside the image (or NaN from a degenerate calibration): nothing to write, and
+      // the int conversion below would overflow.
+      if (!(std::abs(raw.x()) < 1e8 && std::abs(raw.y()) < 1e8)) continue;
       // The footprint's pixels around the projection (one pixel when footprint is 1).
       const int u0 = static_cast<int>(std::lround(raw.x() - 0.5 * (footprint - 1)));
       const int v0 = static_cast<int>(std::lround(raw.y() - 0.5 * (footprint - 1)));

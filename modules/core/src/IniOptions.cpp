@@ -1,3 +1,4 @@
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
 
 #include <algorithm>
@@ -47,8 +48,8 @@ double IniSectionReader::readDouble(const std::string& key, double defaultValue)
   if (!found) return defaultValue;
   char* end = nullptr;
   const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || !std::isfinite(x))
-    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v +
+  if (v.empty() || end != v.c_str() + v.size() || !std::isfinite(x))
+    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(v) +
                                 "' is not a finite number");
   return x;
 }
@@ -59,8 +60,9 @@ int IniSectionReader::readInt(const std::string& key, int defaultValue) {
   if (!found) return defaultValue;
   char* end = nullptr;
   const long x = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || x < INT32_MIN || x > INT32_MAX)
-    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v + "' is not an integer");
+  if (v.empty() || end != v.c_str() + v.size() || x < INT32_MIN || x > INT32_MAX)
+    throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(v) +
+                                "' is not an integer");
   return static_cast<int>(x);
 }
 
@@ -70,7 +72,7 @@ bool IniSectionReader::readBool(const std::string& key, bool defaultValue) {
   if (!found) return defaultValue;
   if (v == "1" || v == "true" || v == "yes" || v == "on") return true;
   if (v == "0" || v == "false" || v == "no" || v == "off") return false;
-  throw std::invalid_argument("[" + section_ + "] " + key + " = '" + v +
+  throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(v) +
                               "' is not a boolean (true/false)");
 }
 
@@ -95,8 +97,8 @@ std::vector<double> IniSectionReader::readDoubles(const std::string& key,
   while (in >> tok) {
     char* end = nullptr;
     const double x = std::strtod(tok.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(x))
-      throw std::invalid_argument("[" + section_ + "] " + key + ": '" + tok +
+    if (end != tok.c_str() + tok.size() || !std::isfinite(x))
+      throw std::invalid_argument("[" + section_ + "] " + key + ": '" + printableText(tok) +
                                   "' is not a finite number");
     out.push_back(x);
   }
@@ -113,7 +115,7 @@ void IniSectionReader::rejectUnknownKeys() const {
   cfg_.getAllKeys(section_, keys);
   std::string unknown;
   for (const auto& k : keys)
-    if (!known_.count(k)) unknown += (unknown.empty() ? "" : ", ") + k;
+    if (!known_.count(k)) unknown += (unknown.empty() ? "" : ", ") + printableText(k);
   if (unknown.empty()) return;
   std::string allowed;
   for (const auto& k : known_) allowed += (allowed.empty() ? "" : " ") + k;

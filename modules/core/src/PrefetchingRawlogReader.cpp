@@ -1,9 +1,11 @@
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/PrefetchingRawlogReader.h>
 
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace slamdunk {
 
@@ -34,7 +36,17 @@ void PrefetchingRawlogReader::readLoop() {
     Item item;
     try {
       item.scan = reader_.next();
-      if (item.scan) item.scan->load();
+      if (item.scan) {
+        try {
+          item.scan->load();
+        } catch (const std::exception& e) {
+          // Externally stored images: MRPT's error names the image, not the rawlog.
+          throw std::runtime_error(
+              "rawlog '" + reader_.path() + "', entry " +
+              std::to_string(reader_.entriesRead() - 1) +
+              ": cannot load its external images: " + summarizeError(e.what()));
+        }
+      }
     } catch (...) {
       item.scan.reset();
       item.error = std::current_exception();

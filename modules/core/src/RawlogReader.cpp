@@ -1,3 +1,4 @@
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/RawlogReader.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
@@ -56,10 +57,9 @@ mrpt::obs::CObservation3DRangeScan::Ptr RawlogReader::next() {
       throw std::runtime_error("rawlog '" + path_ + "' is truncated: entry " +
                                std::to_string(entries_) + " ends early");
     } catch (const std::exception& e) {
-      std::string why = e.what();
-      if (why.size() > 300) why = why.substr(0, 300) + "...";
+      // MRPT's text nests one banner and stack trace per object being parsed: one line instead.
       throw std::runtime_error("rawlog '" + path_ + "' is corrupt or truncated at entry " +
-                               std::to_string(entries_) + ": " + why);
+                               std::to_string(entries_) + ": " + summarizeError(e.what()));
     }
     ++entries_;
     if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {

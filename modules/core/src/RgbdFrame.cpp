@@ -1,4 +1,6 @@
 #include <slamdunk/core/DepthRegistration.h>
+#include <slamdunk/core/ErrorText.h>
+#include <slamdunk/core/Pose.h>
 #include <slamdunk/core/RgbdFrame.h>
 
 #include <mrpt/math/CMatrixFixed.h>
@@ -30,7 +32,7 @@ RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
 }
 
 RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
-  const std::string what = "observation '" + obs.sensorLabel +
+  const std::string what = "observation '" + printableText(obs.sensorLabel) +
                            "' at t=" + std::to_string(mrpt::Clock::toDouble(obs.timestamp));
   obs.load();  // externally stored images
   if (!obs.hasIntensityImage || obs.intensityImage.isEmpty())
@@ -39,8 +41,10 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
     throw std::runtime_error(what + " has no depth (range) image");
   if (!obs.range_is_depth)
     throw std::runtime_error(what + " stores ranges along rays, not depth: not supported");
-  if (!(obs.rangeUnits > 0) || !std::isfinite(obs.rangeUnits))
-    throw std::runtime_error(what + " has invalid rangeUnits");
+  // The largest raw value must stay a finite depth: 65535 * 3e38 would be inf metres.
+  if (!(obs.rangeUnits > 0) || !std::isfinite(obs.rangeUnits * 65535.0f))
+    throw std::runtime_error(what + " has invalid rangeUnits " + std::to_string(obs.rangeUnits) +
+                             " (must be positive, 65535 units a finite depth)");
 
   const cv::Mat& colour = obs.intensityImage.asCvMatRef();
   cv::Mat grey;
@@ -58,8 +62,8 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
     K.width = grey.cols;
     K.height = grey.rows;
   }
-  if (!(K.fx > 0 && K.fy > 0))
-    throw std::runtime_error(what + " has invalid colour camera intrinsics (fx, fy must be > 0)");
+  if (const std::string bad = K.problem(); !bad.empty())
+    throw std::runtime_error(what + " has invalid colour camera intrinsics: " + bad);
 
   const auto& range = obs.rangeImage;
   cv::Mat depth(static_cast<int>(range.rows()), static_cast<int>(range.cols()), CV_32F);
@@ -74,8 +78,12 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
     CameraIntrinsics depthK = CameraIntrinsics::fromTCamera(obs.cameraParams);
     depthK.width = depth.cols;
     depthK.height = depth.rows;
-    if (!(depthK.fx > 0 && depthK.fy > 0))
-      throw std::runtime_error(what + " has invalid depth camera intrinsics (fx, fy must be > 0)");
+    if (const std::string bad = depthK.problem(); !bad.empty())
+      throw std::runtime_error(what + " has invalid depth camera intrinsics: " + bad);
+    if (!isValidPose(fromCPose3D(obs.relativePoseIntensityWRTDepth)))
+      throw std::runtime_error(what +
+                               ": relativePoseIntensityWRTDepth is not a rigid transform (NaN, "
+                               "inf or a rotation that is not orthonormal)");
     const mrpt::poses::CPose3D opticalInSensor(0, 0, 0, mrpt::DEG2RAD(-90.0), 0,
                                                mrpt::DEG2RAD(-90.0));
     // Depth optical frame -> depth sensor frame -> colour optical frame.

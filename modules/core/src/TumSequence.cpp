@@ -1,5 +1,7 @@
 #include <slamdunk/core/DepthRegistration.h>
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
+#include <slamdunk/core/PngHeader.h>
 #include <slamdunk/core/TimestampAssociation.h>
 #include <slamdunk/core/TumSequence.h>
 
@@ -21,11 +23,13 @@ namespace slamdunk {
 RgbdCameraCalibration RgbdCameraCalibration::loadFromIni(const std::string& path) {
   if (!fs::is_regular_file(path))
     throw std::runtime_error("camera file '" + path + "' does not exist");
-  mrpt::config::CConfigFile cfg(path);
   try {
+    // Inside the try: MRPT's parser itself throws on some malformed files (e.g. "${X}" naming
+    // an undefined variable), and that error must name the file too.
+    mrpt::config::CConfigFile cfg(path);
     return loadFromConfig(cfg);
   } catch (const std::exception& e) {
-    throw std::runtime_error("camera file '" + path + "': " + e.what());
+    throw std::runtime_error("camera file '" + path + "': " + summarizeError(e.what()));
   }
 }
 
@@ -34,6 +38,12 @@ namespace {
 CameraIntrinsics readIntrinsics(IniSectionReader& r) {
   CameraIntrinsics K;
   const auto res = r.readDoubles("resolution", {640, 480}, 2);
+  // Checked before the conversion: a double beyond INT_MAX does not convert to an int.
+  for (double v : res)
+    if (!(v >= 1 && v <= 100000 && v == std::floor(v)))
+      throw std::invalid_argument("[" + r.section() +
+                                  "] resolution must be two whole numbers of pixels in "
+                                  "[1, 100000]");
   K.width = static_cast<int>(res[0]);
   K.height = static_cast<int>(res[1]);
   K.fx = r.readDouble("fx", K.fx);
@@ -50,6 +60,9 @@ void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
     throw std::invalid_argument("[" + section + "] resolution must be positive");
   if (!(K.fx > 0 && K.fy > 0))
     throw std::invalid_argument("[" + section + "] fx and fy must be positive");
+  // Values no camera has (fx = 1e300, ...) would turn every projection into inf or NaN.
+  if (const std::string bad = K.problem(); !bad.empty())
+    throw std::invalid_argument("[" + section + "] " + bad);
 }
 
 }  // namespace
@@ -99,12 +112,23 @@ std::vector<ListEntry> readImageList(const fs::path& listPath) {
     fields >> stampText >> file;
     char* end = nullptr;
     const double stamp = std::strtod(stampText.c_str(), &end);
-    if (file.empty() || *end != '\0' || !std::isfinite(stamp) || (fields >> extra))
+    if (file.empty() || end != stampText.c_str() + stampText.size() || !std::isfinite(stamp) ||
+        (fields >> extra))
       throw std::runtime_error(listPath.string() + ":" + std::to_string(lineNo) +
                                ": expected 'timestamp filename'");
     out.push_back({stamp, file});
   }
   return out;
+}
+
+/// Throws when a PNG's header declares another size than the calibration's.
+void checkDeclaredSize(const std::string& name, const std::string& path,
+                       const CameraIntrinsics& K) {
+  const auto size = pngFileSize(path);
+  if (size && (size->width != uint32_t(K.width) || size->height != uint32_t(K.height)))
+    throw std::runtime_error(name + " is " + std::to_string(size->width) + "x" +
+                             std::to_string(size->height) + ", the camera calibration says " +
+                             std::to_string(K.width) + "x" + std::to_string(K.height));
 }
 
 }  // namespace
@@ -137,36 +161,47 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
     size_t i, const RgbdCameraCalibration& calib) const {
   const TumFrameEntry& f = frames_.at(i);
   const auto& K = calib.intrinsics;
-  if (!fs::exists(f.rgbFile))
-    throw std::runtime_error("colour image '" + f.rgbFile + "' is missing");
-  if (!fs::exists(f.depthFile))
-    throw std::runtime_error("depth image '" + f.depthFile + "' is missing");
+  // Image names come from the lists (an absolute name leaves the folder): messages name the
+  // list too, and quote the name printably.
+  const auto image = [&](const char* what, const std::string& file, const char* list) {
+    return std::string(what) + " '" + printableText(file, 300) + "' (listed in '" +
+           (fs::path(folder_) / list).string() + "')";
+  };
+  const std::string colourName = image("colour image", f.rgbFile, "rgb.txt");
+  const std::string depthName = image("depth image", f.depthFile, "depth.txt");
+  std::error_code ec;  // e.g. a name too long for the file system: missing all the same
+  if (!fs::is_regular_file(f.rgbFile, ec)) throw std::runtime_error(colourName + " is missing");
+  if (!fs::is_regular_file(f.depthFile, ec)) throw std::runtime_error(depthName + " is missing");
 
   auto obs = mrpt::obs::CObservation3DRangeScan::Create();
   obs->sensorLabel = "RGBD";
   obs->timestamp = mrpt::Clock::fromDouble(f.rgbStamp);
 
+  // A PNG's declared size is checked before decoding: the decoder would allocate whatever a
+  // corrupt header declares (up to gigabytes) before finding the data missing.
+  const CameraIntrinsics& depthK = calib.depthCamera ? *calib.depthCamera : K;
+  checkDeclaredSize(colourName, f.rgbFile, K);
+  checkDeclaredSize(depthName, f.depthFile, depthK);
+
   if (!obs->intensityImage.loadFromFile(f.rgbFile))
-    throw std::runtime_error("cannot decode colour image '" + f.rgbFile + "'");
+    throw std::runtime_error("cannot decode " + colourName);
   const int w = static_cast<int>(obs->intensityImage.getWidth());
   const int h = static_cast<int>(obs->intensityImage.getHeight());
   if (w != K.width || h != K.height)
-    throw std::runtime_error("colour image '" + f.rgbFile + "' is " + std::to_string(w) + "x" +
-                             std::to_string(h) + ", the camera calibration says " +
-                             std::to_string(K.width) + "x" + std::to_string(K.height));
+    throw std::runtime_error(colourName + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                             ", the camera calibration says " + std::to_string(K.width) + "x" +
+                             std::to_string(K.height));
   obs->hasIntensityImage = true;
 
   cv::Mat depth = cv::imread(f.depthFile, cv::IMREAD_UNCHANGED);
-  if (depth.empty()) throw std::runtime_error("cannot decode depth image '" + f.depthFile + "'");
+  if (depth.empty()) throw std::runtime_error("cannot decode " + depthName);
   if (depth.type() != CV_16UC1)
-    throw std::runtime_error("depth image '" + f.depthFile +
-                             "' is not a 16-bit single-channel PNG (found " +
+    throw std::runtime_error(depthName + " is not a 16-bit single-channel PNG (found " +
                              std::to_string(depth.elemSize1() * 8) + "-bit, " +
                              std::to_string(depth.channels()) + " channel(s))");
-  const CameraIntrinsics& depthK = calib.depthCamera ? *calib.depthCamera : K;
   if (depth.cols != depthK.width || depth.rows != depthK.height)
-    throw std::runtime_error("depth image '" + f.depthFile + "' is " + std::to_string(depth.cols) +
-                             "x" + std::to_string(depth.rows) + ", expected " +
+    throw std::runtime_error(depthName + " is " + std::to_string(depth.cols) + "x" +
+                             std::to_string(depth.rows) + ", expected " +
                              std::to_string(depthK.width) + "x" + std::to_string(depthK.height));
   if (calib.depthCamera)
     depth = registerDepthToColour(depth, depthK, K, calib.depthToColour(), 1.0 / calib.depthFactor);

@@ -1,4 +1,5 @@
 #include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/TumTrajectory.h>
 
 #include <Eigen/Geometry>
@@ -35,13 +36,23 @@ Trajectory readTumTrajectory(const std::string& path) {
     while (fields >> tok) {
       char* end = nullptr;
       const double x = std::strtod(tok.c_str(), &end);
-      if (end == tok.c_str() || *end != '\0') fail(path, lineNo, "'" + tok + "' is not a number");
-      if (!std::isfinite(x)) fail(path, lineNo, "non-finite value '" + tok + "'");
+      // Quoted printable: a NUL or control byte would cut or garble the message.
+      if (end == tok.c_str() || end != tok.c_str() + tok.size())
+        fail(path, lineNo, "'" + printableText(tok) + "' is not a number");
+      if (!std::isfinite(x)) fail(path, lineNo, "non-finite value '" + printableText(tok) + "'");
       v.push_back(x);
     }
     if (v.size() != 8)
       fail(path, lineNo,
            "expected 8 fields 'timestamp tx ty tz qx qy qz qw', found " + std::to_string(v.size()));
+    // Finite is not enough: squared distances of 1e300 m overflow to inf in ATE/RPE. No
+    // camera trajectory (not even one in UTM coordinates) comes near a billion metres.
+    for (int k = 1; k <= 3; ++k)
+      if (std::abs(v[k]) > 1e9) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%g", v[k]);
+        fail(path, lineNo, std::string("position ") + value + " m is beyond +-1e9 m");
+      }
     StampedPose sp;
     sp.timestamp = v[0];
     try {

@@ -1,5 +1,7 @@
 #include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
+#include <slamdunk/core/PngHeader.h>
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/maps/CKeyframeGraphMap.h>
 
@@ -18,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -160,6 +163,19 @@ void writeDepth(mrpt::serialization::CArchive& out, const cv::Mat& depth) {
   writeMat(out, depth, false);
 }
 
+/// The next n bytes, read in chunks: memory grows with the data actually present, so a corrupt
+/// byte count fails at the end of the data instead of allocating gigabytes first.
+std::vector<uchar> readBlob(mrpt::serialization::CArchive& in, uint64_t n) {
+  constexpr uint64_t kChunk = uint64_t(1) << 20;
+  std::vector<uchar> out;
+  while (out.size() < n) {
+    const size_t at = out.size(), len = size_t(std::min(kChunk, n - at));
+    out.resize(at + len);
+    readExact(in, out.data() + at, len);
+  }
+  return out;
+}
+
 cv::Mat readMat(mrpt::serialization::CArchive& in, const char* what) {
   const auto rows = in.ReadAs<int32_t>();
   const auto cols = in.ReadAs<int32_t>();
@@ -171,20 +187,27 @@ cv::Mat readMat(mrpt::serialization::CArchive& in, const char* what) {
   if (rows < 0 || cols < 0 || uint32_t(rows) > kMaxCount || cols > kMaxImageSide || type < 0 ||
       type >= (CV_CN_MAX << CV_CN_SHIFT) || channels < 1 || depth > CV_16F || bytes > kMaxBlobBytes)
     corrupt(std::string("bad ") + what + " header");
+  // Every size is checked before anything is allocated.
+  const uint64_t rawBytes = uint64_t(rows) * uint64_t(cols) * uint64_t(CV_ELEM_SIZE(type));
+  if (rawBytes > kMaxBlobBytes) corrupt(std::string(what) + " is implausibly large");
   if (encoding == uint8_t(MatEncoding::Raw)) {
+    if (bytes != rawBytes) corrupt(std::string(what) + " size disagrees with its byte count");
+    const std::vector<uchar> data = readBlob(in, bytes);
     cv::Mat m(rows, cols, type);
-    if (bytes != uint64_t(m.total()) * m.elemSize())
-      corrupt(std::string(what) + " size disagrees with its byte count");
-    readExact(in, m.data, bytes);
+    if (bytes) std::memcpy(m.data, data.data(), bytes);
     return m;
   }
   if (encoding != uint8_t(MatEncoding::Png) && encoding != uint8_t(MatEncoding::ScaledU16Png))
     corrupt(std::string("unknown ") + what + " encoding");
-  std::vector<uchar> png(bytes);
-  readExact(in, png.data(), png.size());
+  const std::vector<uchar> png = readBlob(in, bytes);
+  // The decoder allocates what the PNG header declares: check it against the recorded size.
+  const auto declared = pngSize(png.data(), png.size());
+  if (!declared || declared->width != uint32_t(cols) || declared->height != uint32_t(rows))
+    corrupt(std::string(what) + " PNG header does not match the recorded size " +
+            std::to_string(cols) + "x" + std::to_string(rows));
   cv::Mat m = cv::imdecode(png, cv::IMREAD_UNCHANGED);
   if (encoding == uint8_t(MatEncoding::ScaledU16Png)) {
-    if (type != CV_32F || m.type() != CV_16U || !(units > 0))
+    if (type != CV_32F || m.type() != CV_16U || !(units > 0) || !std::isfinite(units * 65535.0f))
       corrupt(std::string(what) + " scaled 16-bit PNG is inconsistent");
     cv::Mat depthOut(m.rows, m.cols, CV_32F);
     for (int r = 0; r < m.rows; ++r) {
@@ -197,6 +220,64 @@ cv::Mat readMat(mrpt::serialization::CArchive& in, const char* what) {
   if (m.rows != rows || m.cols != cols || m.type() != type)
     corrupt(std::string(what) + " PNG does not decode to the recorded size and type");
   return m;
+}
+
+bool allFinite(const cv::Mat& m) {
+  if (m.empty()) return true;
+  cv::Mat f;
+  m.convertTo(f, CV_32F);
+  return cv::checkRange(f, true, nullptr, -FLT_MAX, FLT_MAX);
+}
+
+bool nonNegativeFinite(const cv::Mat& m) {
+  if (m.empty()) return true;
+  cv::Mat f;
+  m.convertTo(f, CV_32F);
+  return cv::checkRange(f, true, nullptr, 0.0, FLT_MAX);
+}
+
+/// What the pipeline relies on in a keyframe it did not build itself (the file may be corrupt in
+/// ways the framing does not show): usable intrinsics, a rigid pose, finite features with a
+/// descriptor row each, and a subsampled depth that matches the intrinsics.
+void validateKeyframe(const Keyframe& kf, const Pose& pose) {
+  const std::string k = "keyframe " + std::to_string(kf.id);
+  if (!std::isfinite(kf.timestamp)) corrupt(k + ": timestamp is not finite");
+  if (const std::string bad = kf.intrinsics.problem(); !bad.empty())
+    corrupt(k + ": camera intrinsics: " + bad);
+  const Eigen::Matrix3d R = pose.linear();
+  if (!pose.matrix().allFinite() ||
+      (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 ||
+      !(R.determinant() > 0))
+    corrupt(k + ": pose is not a rigid transform");
+  const FeatureSet& f = kf.features;
+  for (const cv::KeyPoint& p : f.keypoints)
+    if (!std::isfinite(p.pt.x) || !std::isfinite(p.pt.y) || !std::isfinite(p.size) ||
+        !std::isfinite(p.angle) || !std::isfinite(p.response))
+      corrupt(k + ": a keypoint has a non-finite value");
+  for (const Eigen::Vector3d& p : f.points)
+    if (!p.allFinite()) corrupt(k + ": a feature point is not finite");
+  if (!f.keypoints.empty()) {
+    const int t = f.descriptors.type();
+    if (f.descriptors.cols < 1 || (t != CV_32FC1 && t != CV_8UC1))
+      corrupt(k + ": descriptors must be a CV_32F or CV_8U matrix with one row per keypoint");
+    if (t == CV_32FC1 && !allFinite(f.descriptors)) corrupt(k + ": a descriptor is not finite");
+  }
+  // The full images are stored bit-exact whatever they hold (their readers check sizes and
+  // skip invalid depth); only their kinds are fixed. The subsampled depth is indexed through
+  // the intrinsics by the tracker: its size and values must be right.
+  if (!kf.depth.empty() && kf.depth.type() != CV_32FC1)
+    corrupt(k + ": depth image must be CV_32F metres");
+  const CameraIntrinsics& K = kf.intrinsics;
+  if (!kf.depthSmall.empty()) {
+    const int s = kf.depthSmallStride;
+    if (s < 1 || s > 64) corrupt(k + ": subsampled depth stride " + std::to_string(s));
+    if (kf.depthSmall.type() != CV_16FC1 && kf.depthSmall.type() != CV_32FC1)
+      corrupt(k + ": subsampled depth must be CV_16F or CV_32F");
+    if (kf.depthSmall.rows != (K.height + s - 1) / s || kf.depthSmall.cols != (K.width + s - 1) / s)
+      corrupt(k + ": subsampled depth does not match the camera's size and its stride");
+    if (!nonNegativeFinite(kf.depthSmall))
+      corrupt(k + ": subsampled depth has negative or non-finite values");
+  }
 }
 
 void writeKeyframe(mrpt::serialization::CArchive& out, const Keyframe& kf, const Pose& pose) {
@@ -260,6 +341,7 @@ std::pair<std::shared_ptr<Keyframe>, Pose> readKeyframe(mrpt::serialization::CAr
   if (in.ReadAs<uint8_t>()) kf->depth = readMat(in, "depth image");
   kf->depthSmall = readMat(in, "subsampled depth image");
   kf->depthSmallStride = in.ReadAs<int32_t>();
+  validateKeyframe(*kf, pose);
   return {kf, pose};
 }
 
@@ -418,9 +500,20 @@ void CKeyframeGraphMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t
   // and never touches a graph shared with a running SLAM system.
   auto graph = std::make_shared<KeyframeGraph>();
   const uint32_t n = readCount(in, "keyframe");
+  const Keyframe* withDescriptors = nullptr;  // all keyframes must share one descriptor kind
   for (uint32_t k = 0; k < n; ++k) {
     auto [kf, pose] = readKeyframe(in);
     if (graph->contains(kf->id)) corrupt("keyframe id " + std::to_string(kf->id) + " repeated");
+    const cv::Mat& d = kf->features.descriptors;
+    if (!d.empty()) {
+      if (!withDescriptors) {
+        withDescriptors = kf.get();
+      } else if (d.type() != withDescriptors->features.descriptors.type() ||
+                 d.cols != withDescriptors->features.descriptors.cols) {
+        corrupt("keyframes " + std::to_string(withDescriptors->id) + " and " +
+                std::to_string(kf->id) + " have descriptors of different kinds");
+      }
+    }
     graph->addKeyframe(std::move(kf), pose);
   }
   const uint32_t ne = readCount(in, "edge");
@@ -439,6 +532,10 @@ void CKeyframeGraphMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t
       in >> pm.weight;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) in >> pm.information(r, c);
+      if (!pm.pointI.allFinite() || !pm.pointJ.allFinite() || !std::isfinite(pm.weight) ||
+          pm.weight < 0 || !pm.information.allFinite())
+        corrupt("edge " + std::to_string(i) + "-" + std::to_string(j) +
+                ": a match has a non-finite or negative value");
       matches.push_back(pm);
     }
     graph->addMatches(i, j, matches);  // i < j: stored unchanged
@@ -476,10 +573,9 @@ std::shared_ptr<CKeyframeGraphMap> CKeyframeGraphMap::loadFromFile(const std::st
                                "' was written by a newer version (class version " +
                                std::to_string(tooNewVersionSeen) + "; this build reads up to " +
                                std::to_string(kSerializationVersion) + ")");
-    // MRPT's messages carry a multi-line stack trace: keep the first line.
-    std::string why = e.what();
-    why = why.substr(0, why.find('\n'));
-    throw std::runtime_error("map file '" + path + "' is corrupt or truncated (" + why + ")");
+    // MRPT's messages carry a banner and a stack trace per nested object: one line instead.
+    throw std::runtime_error("map file '" + path + "' is corrupt or truncated (" +
+                             summarizeError(e.what()) + ")");
   }
   auto map = std::dynamic_pointer_cast<CKeyframeGraphMap>(obj);
   if (!map)

@@ -1,3 +1,4 @@
+#include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/slam/SlamOptions.h>
 
@@ -19,7 +20,7 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
   cfg.getAllSections(sections);
   for (const auto& s : sections)
     if (!s.empty() && s.rfind(prefix, 0) == 0 && !kSections.count(s.substr(prefix.size())))
-      throw std::invalid_argument("unknown section [" + s +
+      throw std::invalid_argument("unknown section [" + printableText(s) +
                                   "] (known: features, tracker, optimizer, slam)");
   features.loadFromConfigFile(cfg, prefix + "features");
   tracker.loadFromConfigFile(cfg, prefix + "tracker");
@@ -44,12 +45,14 @@ void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
 SlamOptions SlamOptions::fromFile(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("configuration file '" + path + "' does not exist");
-  mrpt::config::CConfigFile cfg(path);
   SlamOptions o;
   try {
+    // Inside the try: MRPT's parser itself throws on some malformed files (e.g. "${X}" naming
+    // an undefined variable), and that error must name the file too.
+    mrpt::config::CConfigFile cfg(path);
     o.loadFromConfigFile(cfg, "");
   } catch (const std::exception& e) {
-    throw std::runtime_error("configuration file '" + path + "': " + e.what());
+    throw std::runtime_error("configuration file '" + path + "': " + summarizeError(e.what()));
   }
   return o;
 }

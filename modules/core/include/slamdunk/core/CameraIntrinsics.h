@@ -23,6 +23,11 @@ struct CameraIntrinsics {
   std::array<double, 5> dist{0, 0, 0, 0, 0};
 
   bool hasDistortion() const;
+  /// Empty when the calibration is usable, else what is wrong with it: a non-positive size,
+  /// a non-finite value, or a value no camera has (focal length outside [1e-3, 1e6] px,
+  /// principal point farther than 1e6 px, a distortion coefficient beyond +-1000). Data read
+  /// from files is checked with this before any pixel is projected.
+  std::string problem() const;
 
   /// Paper Eq. 2: the 3D point (optical frame, metres) of an *undistorted* pixel at depth z.
   Eigen::Vector3d backProject(double u, double v, double z) const {

@@ -15,7 +15,8 @@ struct StampedPose {
 using Trajectory = std::vector<StampedPose>;
 
 /// Reads a TUM trajectory. Throws std::runtime_error "FILE:LINE: reason" on a missing file,
-/// a line with the wrong number of fields, a non-numeric or non-finite value, or a bad quaternion.
+/// a line with the wrong number of fields, a non-numeric or non-finite value, a position beyond
+/// +-1e9 m, or a bad quaternion.
 Trajectory readTumTrajectory(const std::string& path);
 
 /// Writes atomically (temporary file + rename): an existing file is replaced only on success.
