@@ -3,8 +3,10 @@
 # Kinect-like depth, with a keyframe policy that spawns more than 300 keyframes
 # (keyframe_overlap = 0.95; the default gives about 80 there). Prints tracking ms p50/p95/max
 # per block of 100 keyframes (the per-frame cost must follow the window, not the map), the
-# peak RSS, and memory per keyframe with and without keyframe images (peak RSS of the whole
-# run minus that of its first half, over the keyframes between them).
+# peak RSS, and memory per keyframe with and without keyframe images, two ways: the keyframe
+# graph's data counted directly (KeyframeGraph::memory(), the `map_kib_*` figures of
+# `slamdunk-rawlog --json`), and the peak RSS of the whole run minus that of its first half,
+# over the keyframes between them (which also moves with what the allocator keeps).
 #   scripts/benchmark-scale.sh            (renders the tour once: about 4 minutes)
 #   TOUR=/path/tour_kinect.rawlog scripts/benchmark-scale.sh   (an existing rendering)
 set -euo pipefail
@@ -31,6 +33,7 @@ run() {  # run INI MAX_FRAMES [EXTRA...]: JSON summary
 
 full=$(run "$work/scale.ini" "$frames" --gt "$gt" --frame-log "$work/frames.csv")
 echo "tour: $frames frames, $(echo "$full" | field keyframes) keyframes, ATE $(echo "$full" | field ate_rmse_m) m, $(echo "$full" | field fps) frames/s, peak RSS $(echo "$full" | field peak_rss_mib) MiB"
+echo "map data per keyframe, counted: $(echo "$full" | field map_kib_per_keyframe) KiB (in all: features $(echo "$full" | field map_kib_features), small depth $(echo "$full" | field map_kib_depth_small), edges $(echo "$full" | field map_kib_edges) KiB)"
 echo
 echo "| keyframes | frames | tracking ms p50 | p95 | max |"
 echo "|---|---|---|---|---|"
@@ -46,6 +49,8 @@ awk -F, 'NR > 1 { if ($8 == 1) kf++; b = int(kf / 100); print b, $16 }' "$work/f
 half=$((frames / 2))
 for ini in scale scale-images; do
   a=$(run "$work/$ini.ini" "$half"); b=$(run "$work/$ini.ini" "$frames")
+  [ "$ini" = scale-images ] &&
+    echo "map data per keyframe with images, counted: $(echo "$b" | field map_kib_per_keyframe_with_images) KiB"
   ka=$(echo "$a" | field keyframes); kb=$(echo "$b" | field keyframes)
   ra=$(echo "$a" | field peak_rss_mib); rb=$(echo "$b" | field peak_rss_mib)
   awk -v ka="$ka" -v kb="$kb" -v ra="$ra" -v rb="$rb" -v what="$ini" 'BEGIN {

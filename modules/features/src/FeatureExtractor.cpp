@@ -159,6 +159,7 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
   points.clear();
   points.reserve(kept.size());
   for (const auto& kp : kept) points.push_back(*frame.backProject(kp.pt.x, kp.pt.y));
+  kept.shrink_to_fit();  // a keyframe keeps these for the map's lifetime
   out.keypoints = std::move(kept);
   out.descriptors = descriptors;
   out.points = std::move(points);

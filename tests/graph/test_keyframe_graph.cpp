@@ -1,0 +1,77 @@
+// The keyframe graph's own bookkeeping: edges stored from the smaller id's side, and the
+// memory count the scale benchmark reports.
+#include <slamdunk/graph/KeyframeGraph.h>
+
+#include <gtest/gtest.h>
+
+using namespace slamdunk;
+
+namespace {
+
+KeyframePtr keyframe(KeyframeId id, int features, bool withImages) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = id;
+  for (int i = 0; i < features; ++i) {
+    kf->features.keypoints.emplace_back(float(i), float(i), 8.f);
+    kf->features.points.emplace_back(0.01 * i, 0.0, 1.0 + 0.01 * i);
+  }
+  kf->features.keypoints.shrink_to_fit();
+  kf->features.points.shrink_to_fit();
+  kf->features.descriptors = cv::Mat(features, 64, CV_32F, cv::Scalar(0.1f));
+  kf->depthSmall = cv::Mat(120, 160, CV_16F, cv::Scalar(0));
+  if (withImages) {
+    kf->colour = cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+    kf->depth = cv::Mat(480, 640, CV_32F, cv::Scalar(0));
+  }
+  return kf;
+}
+
+std::vector<PointMatch> matches(int n) {
+  std::vector<PointMatch> out;
+  for (int i = 0; i < n; ++i)
+    out.push_back({Eigen::Vector3d(0.1 * i, 0, 1), Eigen::Vector3d(0.1 * i, 0, 1), 1.0,
+                   Eigen::Matrix3d::Identity()});
+  return out;
+}
+
+}  // namespace
+
+TEST(KeyframeGraph, MemoryCountsEveryKeyframeAndEdgeByteExactly) {
+  KeyframeGraph graph;
+  graph.addKeyframe(keyframe(0, 300, false), Pose::Identity());
+  graph.addKeyframe(keyframe(1, 500, true), Pose::Identity());
+  graph.addMatches(1, 0, matches(150));  // stored as (0, 1), in one allocation of 150
+
+  const GraphMemory m = graph.memory();
+  EXPECT_EQ(m.keyframes, 2u);
+  const size_t perFeature = sizeof(cv::KeyPoint) + 64 * sizeof(float) + sizeof(Eigen::Vector3d);
+  EXPECT_EQ(m.features, 2 * sizeof(Keyframe) + 800 * perFeature);
+  EXPECT_EQ(m.depthSmall, 2u * 160 * 120 * 2);
+  EXPECT_EQ(m.images, 640u * 480 * 3 + 640 * 480 * 4);
+  EXPECT_EQ(m.edges, sizeof(KeyframeEdge) + 150 * sizeof(PointMatch));
+  EXPECT_EQ(m.withoutImages(), m.features + m.depthSmall + m.edges);
+  EXPECT_EQ(m.total(), m.withoutImages() + m.images);
+
+  // A second batch on the same edge (a loop closure) grows it by exactly its size.
+  graph.addMatches(0, 1, matches(40));
+  EXPECT_EQ(graph.memory().edges, sizeof(KeyframeEdge) + 190 * sizeof(PointMatch));
+}
+
+TEST(KeyframeGraph, MatchesAreStoredFromTheSmallerIdsSide) {
+  KeyframeGraph graph;
+  graph.addKeyframe(keyframe(3, 1, false), Pose::Identity());
+  Pose T = Pose::Identity();
+  T.translation() = Eigen::Vector3d(1, 0, 0);
+  graph.addKeyframe(keyframe(7, 1, false), T);
+  PointMatch m{Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6), 0.5,
+               Eigen::Matrix3d::Identity()};
+  graph.addMatches(7, 3, {m});
+  const auto edges = graph.allEdges();
+  ASSERT_EQ(edges.size(), 1u);
+  EXPECT_EQ(edges[0].i, 3u);
+  EXPECT_EQ(edges[0].j, 7u);
+  ASSERT_EQ(edges[0].matches.size(), 1u);
+  EXPECT_EQ(edges[0].matches[0].pointI, Eigen::Vector3d(4, 5, 6));  // keyframe 3's point
+  EXPECT_EQ(edges[0].matches[0].pointJ, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(graph.neighbours(3), std::vector<KeyframeId>{7});
+}
