@@ -159,7 +159,14 @@ void expectCompleteOutputs(const LiveRun& r) {
   EXPECT_NE(r.result.output.find("\"interrupted\": true"), std::string::npos) << r.result.output;
   const Trajectory traj = readTumTrajectory(r.trajectory);
   // ~5 s at 30 Hz minus start-up: well over 50 frames, well under the 1000 of the recording.
-  EXPECT_GT(traj.size(), 50u) << r.result.output;
+  // Under the sanitizers tracking runs at 7-9 frames/s (about 40 frames in those 5 s): the
+  // point stays that the run was stopped midway with what it had processed all written.
+#ifdef SLAMDUNK_SANITIZED
+  const size_t fewestFrames = 10;
+#else
+  const size_t fewestFrames = 50;
+#endif
+  EXPECT_GT(traj.size(), fewestFrames) << r.result.output;
   EXPECT_LT(traj.size(), 300u) << r.result.output;
   EXPECT_EQ(traj.size(), r.value("tracked"));
   const fs::path kf = fs::path(r.trajectory).parent_path() / "trajectory_keyframes.txt";
