@@ -101,8 +101,10 @@ class VirtualDisplay {
     if (pipe(fds) != 0) return;
     const std::string fdArg = std::to_string(fds[1]);
     server_ = std::make_unique<Child>(
+        // -noreset: by default the server resets whenever its last client disconnects (each
+        // xwininfo poll below), and a viewer connecting during a reset fails to open the display.
         std::vector<std::string>{"Xvfb", "-displayfd", fdArg, "-screen", "0", "1280x1024x24",
-                                 "-nolisten", "tcp"},
+                                 "-nolisten", "tcp", "-noreset"},
         std::vector<std::string>{}, logFile);  // inherits fds[1]: pipe() sets no O_CLOEXEC
     close(fds[1]);
     pollfd p{fds[0], POLLIN, 0};
@@ -114,10 +116,11 @@ class VirtualDisplay {
   /// ":N", or empty when the server did not start.
   const std::string& name() const { return name_; }
 
-  /// Waits up to `seconds` for a window whose title contains `title`.
-  bool waitForWindow(const std::string& title, double seconds) const {
+  /// Waits up to `seconds` for a window whose title contains `title`; gives up early when
+  /// `program` exits.
+  bool waitForWindow(const std::string& title, double seconds, Child& program) const {
     const auto end = steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (steady_clock::now() < end) {
+    while (steady_clock::now() < end && program.alive()) {
       const auto tree = test::runCommand("xwininfo -display " + name_ + " -root -tree");
       if (tree.output.find(title) != std::string::npos) return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
@@ -180,6 +183,45 @@ std::optional<std::string> missingTools(const std::vector<std::string>& viewers)
   return std::nullopt;
 }
 
+/// A viewer on its own virtual display, its window up (or why not).
+struct RunningViewer {
+  std::unique_ptr<VirtualDisplay> display;  // declared first: outlives the viewer
+  std::unique_ptr<Child> viewer;
+  bool noServer = false;  ///< Xvfb could not start: the test skips
+  std::string failure;    ///< no window: what the viewer printed
+};
+
+/// Starts `argv` on a fresh Xvfb and waits for a window titled `title`. A viewer that could
+/// not open the display (seen once in CI: "Unable to initialize GTK+") is started again on a
+/// new server, up to three times; every attempt's output is kept for the failure message.
+RunningViewer startViewer(const std::vector<std::string>& argv, const std::string& title,
+                          const std::string& dir) {
+  RunningViewer run;
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    run.viewer.reset();
+    run.display = std::make_unique<VirtualDisplay>(dir + "/xvfb.log");
+    if (run.display->name().empty()) {
+      run.noServer = true;
+      run.failure = readFile(dir + "/xvfb.log");
+      return run;
+    }
+    run.viewer = std::make_unique<Child>(
+        argv, std::vector<std::string>{"DISPLAY=" + run.display->name()}, dir + "/viewer.log");
+    if (run.viewer->started() && run.display->waitForWindow(title, 60, *run.viewer)) {
+      run.failure.clear();
+      return run;
+    }
+    const std::string output = readFile(dir + "/viewer.log");
+    run.failure += "attempt " + std::to_string(attempt) + " on " + run.display->name() +
+                   (run.viewer->alive() ? " (still running, no window)" : " (exited)") + ":\n" +
+                   output + "\nXvfb:\n" + readFile(dir + "/xvfb.log") + "\n";
+    const bool displayRefused = output.find("Unable to initialize GTK") != std::string::npos ||
+                                output.find("cannot open display") != std::string::npos;
+    if (!displayRefused) break;
+  }
+  return run;
+}
+
 }  // namespace
 
 TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
@@ -196,15 +238,13 @@ TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
                        q(dir + "/m.png") + " --scene " + q(dir + "/m.3Dscene"));
   ASSERT_EQ(render.exitCode, 0) << render.output;
 
-  VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty())
-    GTEST_SKIP() << "no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log");
-  Child viewer({"stdbuf", "-oL", "-eL", "SceneViewer3D", dir + "/m.3Dscene"},
-               {"DISPLAY=" + display.name()}, dir + "/viewer.log");
-  ASSERT_TRUE(viewer.started());
-  ASSERT_TRUE(display.waitForWindow("[m.3Dscene]", 60))
-      << "no SceneViewer3D window with the scene's name; output:\n"
-      << readFile(dir + "/viewer.log");
+  auto run = startViewer({"stdbuf", "-oL", "-eL", "SceneViewer3D", dir + "/m.3Dscene"},
+                         "[m.3Dscene]", dir);
+  if (run.noServer) GTEST_SKIP() << "no X server could be started (Xvfb): " << run.failure;
+  ASSERT_TRUE(run.failure.empty()) << "no SceneViewer3D window with the scene's name:\n"
+                                   << run.failure;
+  const VirtualDisplay& display = *run.display;
+  Child& viewer = *run.viewer;
   std::this_thread::sleep_for(std::chrono::seconds(5));  // it loads, then draws
   const cv::Mat shot = display.screenshot(dir + "/viewer.png");
   EXPECT_TRUE(viewer.alive()) << "SceneViewer3D exited; output:\n" << readFile(dir + "/viewer.log");
@@ -230,15 +270,13 @@ TEST(MrptViewers, RawLogViewerStartsWithTheMapPlugin) {
   if (const auto why = missingTools({"RawLogViewer"})) GTEST_SKIP() << *why;
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("Viewers_RawLogViewer");
-  VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty())
-    GTEST_SKIP() << "no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log");
-  Child viewer({"stdbuf", "-oL", "-eL", "RawLogViewer", "-l", SLAMDUNK_MAPS_PLUGIN, rawlog},
-               {"DISPLAY=" + display.name()}, dir + "/viewer.log");
-  ASSERT_TRUE(viewer.started());
-  ASSERT_TRUE(display.waitForWindow("RawlogViewer - Part of the MRPT project", 60))
-      << "no RawLogViewer window; output:\n"
-      << readFile(dir + "/viewer.log");
+  auto run =
+      startViewer({"stdbuf", "-oL", "-eL", "RawLogViewer", "-l", SLAMDUNK_MAPS_PLUGIN, rawlog},
+                  "RawlogViewer - Part of the MRPT project", dir);
+  if (run.noServer) GTEST_SKIP() << "no X server could be started (Xvfb): " << run.failure;
+  ASSERT_TRUE(run.failure.empty()) << "no RawLogViewer window:\n" << run.failure;
+  const VirtualDisplay& display = *run.display;
+  Child& viewer = *run.viewer;
   std::this_thread::sleep_for(std::chrono::seconds(5));
   const cv::Mat shot = display.screenshot(dir + "/viewer.png");
   EXPECT_TRUE(viewer.alive()) << "RawLogViewer exited; output:\n" << readFile(dir + "/viewer.log");
