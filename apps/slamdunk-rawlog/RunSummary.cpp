@@ -82,6 +82,10 @@ void printRunSummary(const RunFigures& f, bool json) {
         "%.4f,\n",
         s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
     std::printf("  \"first_tracked_frame\": %ld,\n", f.firstTrackedFrame);
+    std::printf(
+        "  \"camera_rolling_shutter_ms\": %.2f, \"camera_keypoint_pixel_sigma\": %.3f, "
+        "\"camera_keypoint_depth_sigma\": %.5f,\n",
+        s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);
     const GraphMemory& m = f.mapMemory;
     std::printf(
         "  \"map_kib_features\": %.1f, \"map_kib_depth_small\": %.1f, \"map_kib_edges\": %.1f, "
@@ -108,6 +112,9 @@ void printRunSummary(const RunFigures& f, bool json) {
   std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
   std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
   std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
+  std::printf(
+      "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",
+      s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);
   std::printf(
       "  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "
       "%.3f deg\n",

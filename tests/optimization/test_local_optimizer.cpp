@@ -164,8 +164,15 @@ PoseError maxRelativeError(const KeyframeGraph& g, const Scene& s, int n) {
 
 bool bitIdentical(const Pose& a, const Pose& b) { return a.matrix() == b.matrix(); }
 
-LocalOptimizerOptions paperOptions(int rings = 3) {
+/// The paper's 3D-3D cost (these tests' point matches join no features: no landmarks).
+LocalOptimizerOptions edgeForm() {
   LocalOptimizerOptions o;
+  o.residualForm = ResidualForm::Edge;
+  return o;
+}
+
+LocalOptimizerOptions paperOptions(int rings = 3) {
+  LocalOptimizerOptions o = edgeForm();
   o.rings = rings;
   o.robustLoss = RobustLoss::None;
   return o;
@@ -373,7 +380,7 @@ TEST(LocalOptimizer, HuberClosesLargeErrorsLikeThePlainCost) {
   for (int k = 1; k < 10; ++k)
     for (int d = 1; d <= 2 && k - d >= 0; ++d)
       g.addMatches(k - d, k, s.matches(k - d, k, 150, kSigma));
-  const auto r = LocalOptimizer(LocalOptimizerOptions{}).optimize(g, 9);
+  const auto r = LocalOptimizer(edgeForm()).optimize(g, 9);
   std::cout << r.toString() << "\n";
   ASSERT_TRUE(r.usable);
   EXPECT_GT(r.maxTranslationChange, 0.1);
@@ -518,7 +525,7 @@ TEST(LocalOptimizer, SameGraphGivesBitIdenticalResults) {
     Scene s(10, 3);
     KeyframeGraph g;
     buildChain(g, s, 3, 120, range(0, 10));
-    LocalOptimizer(LocalOptimizerOptions{}).optimize(g, 9);
+    LocalOptimizer(edgeForm()).optimize(g, 9);
     result = g.poses();
   }
   for (const auto& [id, p] : results[0]) EXPECT_TRUE(bitIdentical(p, results[1].at(id))) << id;
@@ -550,7 +557,7 @@ TEST(LocalOptimizer, RunsWhileOtherThreadsReadAndExtendTheGraph) {
   std::atomic<bool> done{false};
   std::atomic<int> runs{0}, badReports{0}, badPoses{0};
   std::thread optimizer([&] {
-    const LocalOptimizer opt(LocalOptimizerOptions{});
+    const LocalOptimizer opt(edgeForm());
     while (!done) {
       const auto r = opt.optimize(g, g.ids().back());
       // A keyframe caught between addKeyframe() and its addMatches() has no edge yet: then
@@ -643,7 +650,7 @@ void timeLocalProblems(int span, int matchesPerEdge, const LocalOptimizerOptions
 }  // namespace
 
 TEST(LocalOptimizer, TimingOnRealisticLocalProblems) {
-  LocalOptimizerOptions o;  // defaults
+  LocalOptimizerOptions o = edgeForm();  // defaults otherwise
   timeLocalProblems(4, 200, o);
   timeLocalProblems(6, 300, o);
   o.robustLoss = RobustLoss::None;
@@ -664,6 +671,8 @@ TEST(LocalOptimizerOptions, IniRoundTrip) {
   o.numThreads = 2;
   o.minWeight = 0.25;
   o.maxSolverTimeMs = 80;
+  o.residualForm = ResidualForm::Edge;
+  o.landmarkLossScale = 1.5;
   mrpt::config::CConfigFileMemory cfg;
   o.saveToConfigFile(cfg, "optimizer");
   LocalOptimizerOptions back;
@@ -676,6 +685,8 @@ TEST(LocalOptimizerOptions, IniRoundTrip) {
   EXPECT_EQ(back.numThreads, 2);
   EXPECT_DOUBLE_EQ(back.minWeight, 0.25);
   EXPECT_DOUBLE_EQ(back.maxSolverTimeMs, 80);
+  EXPECT_EQ(back.residualForm, ResidualForm::Edge);
+  EXPECT_DOUBLE_EQ(back.landmarkLossScale, 1.5);
 }
 
 TEST(LocalOptimizerOptions, DefaultsAndPartialSection) {

@@ -1,4 +1,4 @@
-#include <slamdunk/tracking/DepthNoiseModel.h>
+#include <slamdunk/core/DepthNoiseModel.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 
 #include "RenderPlanes.h"

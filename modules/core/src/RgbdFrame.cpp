@@ -3,6 +3,9 @@
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/core/RgbdFrame.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -108,8 +111,22 @@ float RgbdFrame::depthAt(double u, double v) const {
   return std::isfinite(z) && z > 0 ? z : 0.f;
 }
 
+float RgbdFrame::interpolatedDepthAt(double u, double v) const {
+  const double fu = std::floor(u), fv = std::floor(v);
+  const int c = static_cast<int>(fu), r = static_cast<int>(fv);
+  if (!(std::abs(u) < 1e8 && std::abs(v) < 1e8) || c < 0 || r < 0 || c + 1 >= depth_.cols ||
+      r + 1 >= depth_.rows)
+    return depthAt(u, v);
+  const float z00 = depth_.at<float>(r, c), z01 = depth_.at<float>(r, c + 1);
+  const float z10 = depth_.at<float>(r + 1, c), z11 = depth_.at<float>(r + 1, c + 1);
+  const float lo = std::min({z00, z01, z10, z11}), hi = std::max({z00, z01, z10, z11});
+  if (!(lo > 0) || !std::isfinite(hi) || hi - lo > 0.02f * lo) return depthAt(u, v);
+  const double a = u - fu, b = v - fv;
+  return static_cast<float>((1 - b) * ((1 - a) * z00 + a * z01) + b * ((1 - a) * z10 + a * z11));
+}
+
 std::optional<Eigen::Vector3d> RgbdFrame::backProject(double u, double v) const {
-  const float z = depthAt(u, v);
+  const float z = interpolatedDepthAt(u, v);
   if (z <= 0) return std::nullopt;
   const Eigen::Vector2d und = intrinsics_.undistortPixel(u, v);
   return intrinsics_.backProject(und.x(), und.y(), z);

@@ -53,7 +53,12 @@ void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   maxDepth = r.readDouble("max_depth", maxDepth);
   maxDepthDiscontinuity = r.readDouble("max_depth_discontinuity", maxDepthDiscontinuity);
   depthCheckRadius = r.readInt("depth_check_radius", depthCheckRadius);
+  noise.pixelSigma = r.readDouble("keypoint_pixel_sigma", noise.pixelSigma);
+  noise.depthSigmaQuadratic = r.readDouble("keypoint_depth_sigma", noise.depthSigmaQuadratic);
   r.rejectUnknownKeys();
+  if (!(noise.pixelSigma > 0 && noise.depthSigmaQuadratic > 0))
+    throw std::invalid_argument("[" + section +
+                                "] keypoint_pixel_sigma and keypoint_depth_sigma must be > 0");
   if (maxFeatures < 3) throw std::invalid_argument("[" + section + "] max_features must be >= 3");
   if (!(minDepth >= 0 && maxDepth > minDepth))
     throw std::invalid_argument("[" + section + "] needs 0 <= min_depth < max_depth");
@@ -73,6 +78,8 @@ void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(section, "max_depth", maxDepth);
   cfg.write(section, "max_depth_discontinuity", maxDepthDiscontinuity);
   cfg.write(section, "depth_check_radius", depthCheckRadius);
+  cfg.write(section, "keypoint_pixel_sigma", noise.pixelSigma);
+  cfg.write(section, "keypoint_depth_sigma", noise.depthSigmaQuadratic);
 }
 
 namespace {

@@ -42,7 +42,7 @@ void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
     }
     // Stored from the smaller id's side: the information moves into keyframe b's frame
     // through the relative rotation of the two keyframes at this time.
-    PointMatch flipped{m.pointJ, m.pointI, m.weight, m.information};
+    PointMatch flipped{m.pointJ, m.pointI, m.weight, m.information, m.featureJ, m.featureI};
     const Eigen::Matrix3d R_ba =
         poses_.at(b).linear().transpose() * poses_.at(a).linear();  // b <- a
     flipped.information = R_ba * m.information * R_ba.transpose();
@@ -62,6 +62,8 @@ GraphMemory KeyframeGraph::memory() const {
     const FeatureSet& f = kf->features;
     m.features += sizeof(Keyframe) + f.keypoints.capacity() * sizeof(cv::KeyPoint) +
                   matBytes(f.descriptors) + f.points.capacity() * sizeof(Eigen::Vector3d);
+    if (const auto r = refined_.find(id); r != refined_.end())
+      m.features += r->second->capacity() * sizeof(Eigen::Vector3d);
     m.depthSmall += matBytes(kf->depthSmall);
     m.images += matBytes(kf->colour) + matBytes(kf->depth);
   }
@@ -107,9 +109,26 @@ std::map<KeyframeId, Pose> KeyframeGraph::poses() const {
   return poses_;
 }
 
-void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses) {
+void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
+                             const PointRefinements& refined) {
+  // The new point vectors are built before taking the lock: readers wait only for the swap.
+  std::map<KeyframeId, RefinedPoints> replacements;
+  for (const auto& [id, changes] : refined) {
+    const KeyframePtr kf = keyframe(id);
+    const RefinedPoints old = refinedPoints(id);
+    auto points = std::make_shared<std::vector<Eigen::Vector3d>>(old ? *old : kf->features.points);
+    for (const auto& [feature, p] : changes) points->at(feature) = p;
+    replacements[id] = std::move(points);
+  }
   std::unique_lock lock(mutex_);
   for (const auto& [id, p] : poses) poses_.at(id) = p;
+  for (auto& [id, points] : replacements) refined_[id] = std::move(points);
+}
+
+RefinedPoints KeyframeGraph::refinedPoints(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  const auto it = refined_.find(id);
+  return it == refined_.end() ? nullptr : it->second;
 }
 
 std::vector<KeyframeId> KeyframeGraph::neighbours(KeyframeId id) const {

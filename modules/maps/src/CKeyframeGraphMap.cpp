@@ -28,7 +28,7 @@
 #include <sstream>
 #include <stdexcept>
 
-// Serialization layout, version 0 (all numbers through CArchive, i.e. little-endian):
+// Serialization layout, version 1 (all numbers through CArchive, i.e. little-endian):
 //   u32 keyframeCount, then per keyframe (increasing id):
 //     u32 id, f64 timestamp
 //     intrinsics: i32 width, i32 height, f64 fx fy cx cy, f64 dist[5]
@@ -42,6 +42,11 @@
 //     depthSmall: matrix block (raw, may be 0x0), i32 depthSmallStride
 //   u32 edgeCount, then per edge (increasing (i, j), i < j):
 //     u32 i, u32 j, u32 m; per match: f64 pointI[3] pointJ[3] weight information[9] (row-major)
+//     version 1 adds per match: u32 featureI, featureJ (0xFFFFFFFF: not a feature; version 0
+//     maps read as such)
+// Version 1 then adds the features' positions refined by the bundle adjustment:
+//   u32 count, then per keyframe that has them (increasing id): u32 id, u32 n (its feature
+//   count), n x f64[3] (in the keyframe's frame)
 // Matrix block: i32 rows, i32 cols, i32 cv type, u8 encoding (0 raw, 1 PNG, 2 scaled 16-bit
 // PNG followed by f32 units), u64 byte count, bytes. Raw bytes are the matrix' own (little-endian
 // on every platform this builds on).
@@ -487,7 +492,17 @@ void CKeyframeGraphMap::serializeTo(mrpt::serialization::CArchive& out) const {
       out << m.weight;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) out << m.information(r, c);
+      out << m.featureI << m.featureJ;
     }
+  }
+  std::vector<std::pair<KeyframeId, RefinedPoints>> refined;
+  for (const auto& [id, pose] : poses)
+    if (RefinedPoints points = graph_->refinedPoints(id))
+      refined.emplace_back(id, std::move(points));
+  out << uint32_t(refined.size());
+  for (const auto& [id, points] : refined) {
+    out << uint32_t(id) << uint32_t(points->size());
+    for (const Eigen::Vector3d& p : *points) writeVec(out, p);
   }
 }
 
@@ -532,13 +547,38 @@ void CKeyframeGraphMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t
       in >> pm.weight;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) in >> pm.information(r, c);
+      if (version >= 1) in >> pm.featureI >> pm.featureJ;
       if (!pm.pointI.allFinite() || !pm.pointJ.allFinite() || !std::isfinite(pm.weight) ||
           pm.weight < 0 || !pm.information.allFinite())
         corrupt("edge " + std::to_string(i) + "-" + std::to_string(j) +
                 ": a match has a non-finite or negative value");
+      if ((pm.featureI != PointMatch::kNoFeature &&
+           pm.featureI >= graph->keyframe(i)->features.size()) ||
+          (pm.featureJ != PointMatch::kNoFeature &&
+           pm.featureJ >= graph->keyframe(j)->features.size()))
+        corrupt("edge " + std::to_string(i) + "-" + std::to_string(j) +
+                ": a match names a feature its keyframe does not have");
       matches.push_back(pm);
     }
     graph->addMatches(i, j, matches);  // i < j: stored unchanged
+  }
+  if (version >= 1) {
+    const uint32_t nr = readCount(in, "refined keyframe");
+    PointRefinements refined;
+    for (uint32_t k = 0; k < nr; ++k) {
+      const auto id = in.ReadAs<uint32_t>();
+      const uint32_t n = readCount(in, "refined point");
+      if (!graph->contains(id) || n != graph->keyframe(id)->features.size() || refined.count(id))
+        corrupt("refined points of keyframe " + std::to_string(id) + " do not match its features");
+      auto& points = refined[id];
+      for (uint32_t q = 0; q < n; ++q) {
+        const Eigen::Vector3d p = readVec3(in);
+        if (!p.allFinite())
+          corrupt("keyframe " + std::to_string(id) + ": a refined point is not finite");
+        points.emplace_back(q, p);
+      }
+    }
+    graph->setPoses({}, refined);
   }
   graph_ = std::move(graph);
   pointsCache_.reset();

@@ -1,12 +1,15 @@
 #include "BundleAdjuster.h"
 
 #include "EdgeMomentResidual.h"
+#include "LandmarkResidual.h"
+#include "LandmarkTracks.h"
 #include "PointMatchResidual.h"
 #include "PoseParameters.h"
 #include "WeightedRobustLoss.h"
 
 #include <ceres/problem.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 
@@ -99,7 +102,15 @@ BundleAdjustmentResult BundleAdjuster::solve(const LocalProblem& p) const {
     r.message = "invalid solver options: " + why;
     return r;
   }
-  return options_.residualForm == ResidualForm::Edge ? solveEdgeForm(p) : solveMatchForm(p);
+  switch (options_.residualForm) {
+    case ResidualForm::Edge:
+      return solveEdgeForm(p);
+    case ResidualForm::Match:
+      return solveMatchForm(p);
+    case ResidualForm::Landmarks:
+      return solveLandmarkForm(p);
+  }
+  return {};
 }
 
 BundleAdjustmentResult BundleAdjuster::solveEdgeForm(const LocalProblem& p) const {
@@ -182,6 +193,132 @@ BundleAdjustmentResult BundleAdjuster::solveMatchForm(const LocalProblem& p) con
   r.finalCost = 2 * summary.final_cost;
   if (!summary.IsSolutionUsable() || !std::isfinite(r.finalCost)) return r;
   r.freePoses = params.freePoses();
+  r.usable = true;
+  return r;
+}
+
+namespace {
+constexpr double kLandmarkRoundsTolerance = 1e-3;
+}  // namespace
+
+BundleAdjustmentResult BundleAdjuster::solveLandmarkForm(const LocalProblem& p) const {
+  BundleAdjustmentResult r;
+  const DepthNoiseModel& noise = options_.noise;
+  const LandmarkTracks tracks = buildLandmarkTracks(p.edges);
+  ceres::Problem problem(problemOptions());
+  PoseParameters params(p.poses, p.fixed);
+  params.addTo(problem);
+
+  // Every residual is whitened, and carries a weight of its own (a loss wrapper): the robust
+  // loss is applied by reweighting rounds, each an exact weighted least-squares solve. Ceres'
+  // own robust-loss correction made every step fall short (tens of iterations per solve).
+  std::deque<ceres::LossFunctionWrapper> weights;
+  std::vector<ceres::ResidualBlockId> blocks;
+  auto add = [&](ceres::CostFunction* cost, std::vector<double*> blocksOf) {
+    ceres::LossFunctionWrapper& w = weights.emplace_back(nullptr, ceres::TAKE_OWNERSHIP);
+    blocks.push_back(problem.AddResidualBlock(cost, &w, blocksOf));
+  };
+
+  // A landmark starts at the precision-weighted mean of its observations in the world.
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<const Landmark*> optimised;
+  positions.reserve(tracks.landmarks.size());  // stable addresses for Ceres
+  for (const Landmark& l : tracks.landmarks) {
+    const bool seenByFree = std::any_of(l.observations.begin(), l.observations.end(),
+                                        [&](const auto& o) { return p.isFree(o.keyframe); });
+    if (!seenByFree) continue;  // constant: cannot move a free pose
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double total = 0;
+    for (const LandmarkObservation& o : l.observations) {
+      const double w = 1.0 / noise.variance(o.point.z());
+      sum += w * (p.poses.at(o.keyframe) * o.point);
+      total += w;
+    }
+    Eigen::Vector3d& x = positions.emplace_back(sum / total);
+    optimised.push_back(&l);
+    for (const LandmarkObservation& o : l.observations) {
+      const Eigen::Vector2d& f = p.focalLengths.at(o.keyframe);
+      add(LandmarkResidual::create(o.point, f.x(), f.y(), noise.pixelSigma,
+                                   noise.depthSigma(o.point.z())),
+          {params.quaternion(o.keyframe), params.translation(o.keyframe), x.data()});
+      ++r.observations;
+    }
+  }
+  r.landmarks = static_cast<int>(positions.size());
+  // Matches of dense depth, whitened like the features: their weights are relative to a match
+  // of two points 1 m away (the tracker's normalisation).
+  const double unitVariance = 2 * noise.variance(1.0);
+  for (const auto& [e, m] : tracks.pointMatches) {
+    const KeyframeEdge& edge = p.edges[e];
+    const PointMatch& match = edge.matches[m];
+    add(PointMatchResidual::create(match.pointI, match.pointJ, match.weight / unitVariance,
+                                   match.information),
+        {params.quaternion(edge.i), params.translation(edge.i), params.quaternion(edge.j),
+         params.translation(edge.j)});
+  }
+  if (blocks.empty()) {
+    r.message = "no landmark seen by a free keyframe";
+    return r;
+  }
+
+  // Huber on the whitened residual's norm: weight 1 within landmarkLossScale σ, a/‖e‖ beyond.
+  const double a = options_.landmarkLossScale;
+  const bool robust = options_.robustLoss != RobustLoss::None;
+  auto robustCost = [&](bool reweight) {
+    double total = 0;
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      double cost = 0;  // ½ ‖e‖², without the weight
+      problem.EvaluateResidualBlock(blocks[b], false, &cost, nullptr, nullptr);
+      const double s = 2 * cost;
+      const bool inlier = !robust || s <= a * a;
+      total += inlier ? s : 2 * a * std::sqrt(s) - a * a;
+      if (reweight)
+        weights[b].Reset(
+            inlier ? nullptr
+                   : new ceres::ScaledLoss(nullptr, a / std::sqrt(s), ceres::TAKE_OWNERSHIP),
+            ceres::TAKE_OWNERSHIP);
+    }
+    return total;
+  };
+  ceres::Solver::Options options = solverOptions();
+  // Landmarks are eliminated first (Schur complement): the reduced system is the poses'.
+  options.linear_solver_type = ceres::SPARSE_SCHUR;
+  r.initialCost = r.finalCost = robustCost(true);
+  if (!std::isfinite(r.initialCost)) {
+    r.message = "non-finite initial cost";
+    return r;
+  }
+  const int maxRounds = robust ? options_.irlsMaxRounds : 1;
+  for (r.rounds = 1; r.rounds <= maxRounds; ++r.rounds) {
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    r.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+    r.message = summary.message;
+    if (!summary.IsSolutionUsable()) return r;
+    const double cost = robustCost(true);
+    if (!std::isfinite(cost)) {
+      r.message = "non-finite cost after solving: " + summary.message;
+      return r;
+    }
+    // Settled when a round gains less than 0.1 %: the weights then hardly change, and the
+    // poses move by far less than their noise (each round is a full solve: not for 1e-6).
+    const bool settled = r.finalCost - cost <= kLandmarkRoundsTolerance * r.finalCost;
+    r.finalCost = cost;
+    r.converged = summary.termination_type == ceres::CONVERGENCE;
+    if (!robust || settled) {
+      r.converged = r.converged || settled;
+      break;
+    }
+  }
+  r.rounds = std::min(r.rounds, maxRounds);
+  r.freePoses = params.freePoses();
+  // Each observation's feature moves to where its landmark ended up, seen from its keyframe.
+  for (size_t n = 0; n < optimised.size(); ++n)
+    for (const LandmarkObservation& o : optimised[n]->observations) {
+      if (!positions[n].allFinite()) continue;
+      const Pose& pose = poseOf(p, r.freePoses, o.keyframe);
+      r.refinedPoints[o.keyframe].emplace_back(o.feature, pose.inverse() * positions[n]);
+    }
   r.usable = true;
   return r;
 }

@@ -22,9 +22,12 @@ namespace slamdunk {
 
 struct BundleAdjustmentResult {
   std::map<KeyframeId, Pose> freePoses;   ///< optimised values of the free vertices
+  PointRefinements refinedPoints;         ///< landmark form: the features' optimised positions
   double initialCost = 0, finalCost = 0;  ///< Σ w ρ(‖e‖²) (ρ(s) = s without robust loss)
   int iterations = 0;                     ///< Levenberg-Marquardt iterations over all rounds
   int rounds = 0;                         ///< reweighting rounds (1 without robust loss)
+  int landmarks = 0;                      ///< landmark form: landmarks optimised
+  int observations = 0;                   ///< landmark form: their observations
   bool converged = false;
   bool usable = false;
   std::string message;
@@ -38,6 +41,7 @@ class BundleAdjuster {
  private:
   BundleAdjustmentResult solveEdgeForm(const LocalProblem& problem) const;
   BundleAdjustmentResult solveMatchForm(const LocalProblem& problem) const;
+  BundleAdjustmentResult solveLandmarkForm(const LocalProblem& problem) const;
   ceres::Solver::Options solverOptions() const;
   /// Σ w ρ(‖e‖²) with the free vertices at `freePoses` and the fixed ones at their snapshot.
   double cost(const LocalProblem& problem, const std::map<KeyframeId, Pose>& freePoses) const;

@@ -37,6 +37,8 @@ LocalOptimizationReport solveAndWriteBack(KeyframeGraph& graph, const LocalProbl
   r.finalCost = result.finalCost;
   r.iterations = result.iterations;
   r.rounds = result.rounds;
+  r.landmarks = result.landmarks;
+  r.observations = result.observations;
   r.status = LocalOptimizationReport::Status::Failed;
   if (!result.usable) {
     r.message = "solver failed: " + result.message;
@@ -52,7 +54,7 @@ LocalOptimizationReport solveAndWriteBack(KeyframeGraph& graph, const LocalProbl
     r.maxRotationChangeDeg =
         std::max(r.maxRotationChangeDeg, rotationDistance(before, pose) * 180.0 / M_PI);
   }
-  graph.setPoses(result.freePoses);
+  graph.setPoses(result.freePoses, result.refinedPoints);
   r.status = LocalOptimizationReport::Status::Optimised;
   r.converged = result.converged;
   r.usable = true;

@@ -33,10 +33,22 @@ ResidualForm residualFormFromString(const std::string& name) {
   std::transform(n.begin(), n.end(), n.begin(), ::tolower);
   if (n == "edge") return ResidualForm::Edge;
   if (n == "match") return ResidualForm::Match;
-  throw std::invalid_argument("unknown residual form '" + name + "' (choose edge or match)");
+  if (n == "landmarks") return ResidualForm::Landmarks;
+  throw std::invalid_argument("unknown residual form '" + name +
+                              "' (choose edge, match or landmarks)");
 }
 
-std::string toString(ResidualForm form) { return form == ResidualForm::Edge ? "edge" : "match"; }
+std::string toString(ResidualForm form) {
+  switch (form) {
+    case ResidualForm::Edge:
+      return "edge";
+    case ResidualForm::Match:
+      return "match";
+    case ResidualForm::Landmarks:
+      return "landmarks";
+  }
+  return "?";
+}
 
 void LocalOptimizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& section) {
@@ -51,6 +63,7 @@ void LocalOptimizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
   maxSolverTimeMs = r.readDouble("max_solver_time_ms", maxSolverTimeMs);
   residualForm = residualFormFromString(r.readString("residual_form", toString(residualForm)));
   irlsMaxRounds = r.readInt("irls_max_rounds", irlsMaxRounds);
+  landmarkLossScale = r.readDouble("landmark_loss_scale", landmarkLossScale);
   r.rejectUnknownKeys();
   validate(section);
 }
@@ -67,6 +80,7 @@ void LocalOptimizerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(section, "max_solver_time_ms", maxSolverTimeMs);
   cfg.write(section, "residual_form", toString(residualForm));
   cfg.write(section, "irls_max_rounds", irlsMaxRounds);
+  cfg.write(section, "landmark_loss_scale", landmarkLossScale);
 }
 
 void LocalOptimizerOptions::validate(const std::string& section) const {
@@ -81,6 +95,8 @@ void LocalOptimizerOptions::validate(const std::string& section) const {
   if (numThreads < 1) fail("num_threads must be >= 1");
   if (!(minWeight >= 0)) fail("min_weight must be >= 0");
   if (irlsMaxRounds < 1) fail("irls_max_rounds must be >= 1");
+  if (!(landmarkLossScale > 0 && std::isfinite(landmarkLossScale)))
+    fail("landmark_loss_scale must be > 0");
   if (!(maxSolverTimeMs >= 0)) fail("max_solver_time_ms must be >= 0 (0 = no cap)");
 }
 

@@ -11,6 +11,14 @@ size_t LocalProblem::matchCount() const {
   return n;
 }
 
+namespace {
+void snapshotFocalLengths(const KeyframeGraph& graph, LocalProblem& p) {
+  for (const auto& [id, pose] : p.poses)
+    if (const KeyframePtr kf = graph.keyframe(id))
+      p.focalLengths[id] = Eigen::Vector2d(kf->intrinsics.fx, kf->intrinsics.fy);
+}
+}  // namespace
+
 LocalProblem snapshotRings(const KeyframeGraph& graph, KeyframeId root, int rings) {
   // Three short locked reads; keyframes/edges added in between are simply not seen this time.
   const std::map<KeyframeId, int> ring = graph.rings(root, rings);
@@ -20,6 +28,7 @@ LocalProblem snapshotRings(const KeyframeGraph& graph, KeyframeId root, int ring
     p.poses[id] = graph.pose(id);
     if (r >= rings) p.fixed.insert(id);
   }
+  snapshotFocalLengths(graph, p);
   return p;
 }
 
@@ -27,6 +36,7 @@ LocalProblem snapshotAll(const KeyframeGraph& graph) {
   LocalProblem p;
   p.edges = graph.allEdges();
   p.poses = graph.poses();
+  snapshotFocalLengths(graph, p);
   return p;
 }
 

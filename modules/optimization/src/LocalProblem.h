@@ -15,8 +15,10 @@ struct LocalProblem {
   std::map<KeyframeId, Pose> poses;  ///< every vertex touched by an edge (initial values)
   std::set<KeyframeId> fixed;        ///< constant vertices (subset of poses' keys)
   std::vector<KeyframeEdge> edges;   ///< only edges with at least one free endpoint
-  int invalidMatches = 0;            ///< non-finite point/weight or negative weight
-  int droppedMatches = 0;            ///< weight zero or below the minimum
+  /// Focal lengths (fx, fy) of the keyframes, for the landmark form's pixel residuals.
+  std::map<KeyframeId, Eigen::Vector2d> focalLengths;
+  int invalidMatches = 0;  ///< non-finite point/weight or negative weight
+  int droppedMatches = 0;  ///< weight zero or below the minimum
 
   size_t matchCount() const;
   bool isFree(KeyframeId id) const { return poses.count(id) && !fixed.count(id); }

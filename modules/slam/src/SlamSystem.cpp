@@ -9,8 +9,7 @@ namespace slamdunk {
 SlamSystem::SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph> graph)
     : options_(options),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
-      tracker_(options.tracker, options.features, graph_),
-      optimizer_(options.optimizer) {
+      tracker_(options.tracker, options.features, graph_) {
   if (options_.localOptimization && options_.optimizerThread)
     optimizerThread_ = std::thread([this] { optimizerLoop(); });
 }
@@ -71,17 +70,25 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
         std::lock_guard lock(jobMutex_);
         jobPending_ = true;
         jobRoot_ = r.keyframeId;
+        jobNoise_ = tracker_.noiseModel();
       }
       jobCv_.notify_all();
     } else {
-      optimizeAround(r.keyframeId);
+      optimizeAround(r.keyframeId, tracker_.noiseModel());
     }
   }
   return r;
 }
 
-void SlamSystem::optimizeAround(KeyframeId root) {
-  const LocalOptimizationReport rep = optimizer_.optimize(*graph_, root);
+LocalOptimizer SlamSystem::optimizerFor(const DepthNoiseModel& noise) const {
+  // The same precisions as the tracker's, which learns them (KeypointNoiseEstimator).
+  LocalOptimizerOptions o = options_.optimizer;
+  o.noise = noise;
+  return LocalOptimizer(o);
+}
+
+void SlamSystem::optimizeAround(KeyframeId root, const DepthNoiseModel& noise) {
+  const LocalOptimizationReport rep = optimizerFor(noise).optimize(*graph_, root);
   tracker_.notifyMapChanged();
   std::lock_guard lock(statsMutex_);
   if (rep.status == LocalOptimizationReport::Status::NothingToOptimise) return;
@@ -99,10 +106,11 @@ void SlamSystem::optimizerLoop() {
     jobCv_.wait(lock, [&] { return jobPending_ || stopping_; });
     if (stopping_) return;
     const KeyframeId root = jobRoot_;
+    const DepthNoiseModel noise = jobNoise_;
     jobPending_ = false;
     busy_ = true;
     lock.unlock();
-    optimizeAround(root);
+    optimizeAround(root, noise);
     lock.lock();
     busy_ = false;
     jobCv_.notify_all();
@@ -118,7 +126,7 @@ void SlamSystem::waitForOptimizer() {
 void SlamSystem::finish() {
   waitForOptimizer();
   if (options_.globalPassAtEnd && graph_->keyframeCount() > 1) {
-    const LocalOptimizationReport rep = optimizer_.optimizeAll(*graph_);
+    const LocalOptimizationReport rep = optimizerFor(tracker_.noiseModel()).optimizeAll(*graph_);
     std::lock_guard lock(statsMutex_);
     if (rep.usable) {
       ++stats_.optimizations;
@@ -148,6 +156,8 @@ SlamStatistics SlamSystem::statistics() const {
   std::lock_guard lock(statsMutex_);
   SlamStatistics s = stats_;
   s.poolPreparation = tracker_.localMap().statistics();
+  s.rollingShutterMs = tracker_.rollingShutterMs();
+  s.keypointNoise = tracker_.noiseModel();
   return s;
 }
 

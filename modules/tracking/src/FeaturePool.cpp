@@ -1,4 +1,3 @@
-#include <slamdunk/tracking/DepthNoiseModel.h>
 #include <slamdunk/tracking/FeaturePool.h>
 
 #include <nanoflann.hpp>
@@ -69,12 +68,12 @@ PoolSnapshot PoolSnapshot::of(const KeyframeGraph& graph, const std::vector<Keyf
   for (KeyframeId id : ids) {
     s.keyframes.push_back(graph.keyframe(id));
     s.poses.push_back(graph.pose(id));
+    s.refined.push_back(graph.refinedPoints(id));
   }
   return s;
 }
 
 PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& options) {
-  const DepthNoiseModel noise;
   const Pose worldToCenter =
       snapshot.frustum ? snapshot.frustum->first.inverse() : Pose::Identity();
   const bool filter = snapshot.frustum && options.frustumFilter;
@@ -92,12 +91,12 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
     }
     keyframes_.push_back(kf.id);
     keyframePoses_.push_back(T);
-    const Eigen::Matrix3d R = T.linear();
+    const std::vector<Eigen::Vector3d>& points =
+        k < snapshot.refined.size() && snapshot.refined[k] ? *snapshot.refined[k] : fs.points;
     for (size_t i = 0; i < fs.size(); ++i) {
-      const Eigen::Vector3d pw = T * fs.points[i];
+      const Eigen::Vector3d pw = T * points[i];
       if (filter && !insideFrustum(worldToCenter * pw, snapshot.frustum->second, options)) continue;
-      features_.push_back({kf.id, static_cast<uint32_t>(i), fs.points[i], pw,
-                           R * noise.covariance(fs.points[i]) * R.transpose()});
+      features_.push_back({kf.id, static_cast<uint32_t>(i), points[i], pw});
       if (type == CV_8U)
         rowsB.push_back(fs.descriptors.ptr<uint8_t>(static_cast<int>(i)));
       else

@@ -25,7 +25,8 @@ void SensorTiming::compensate(FeatureSet& features, const RgbdFrame& frame, cons
     // The row's exposure time, as a fraction of a frame period from the frame's (mid-readout).
     const double rowFraction = ((px.y + 0.5) / rows - 0.5) * options_.rollingShutterMs / motionMs;
     const Pose frameFromRow = interpolate(motion, rowFraction);
-    const Eigen::Vector3d ray = K.backProject(px.x, px.y, 1.0);
+    const Eigen::Vector2d undistorted = K.undistortPixel(px.x, px.y);
+    const Eigen::Vector3d ray = K.backProject(undistorted.x(), undistorted.y(), 1.0);
     // Depth along the colour ray: first guess the one measured at the same pixel, then read it
     // where the depth camera saw the point (twice: the guess moves the pixel a little).
     double z = features.points[i].z();
@@ -33,7 +34,8 @@ void SensorTiming::compensate(FeatureSet& features, const RgbdFrame& frame, cons
     for (int iteration = 0; iteration < 2; ++iteration) {
       const Eigen::Vector3d q = depthFromFrame * (frameFromRow * (ray * z));
       if (!(q.z() > 0)) break;
-      const Eigen::Vector2d pixel = K.project(q);
+      const Eigen::Vector2d ideal = K.project(q);
+      const Eigen::Vector2d pixel = K.distortPixel(ideal.x(), ideal.y());  // as the image has it
       const auto p = frame.backProject(pixel.x(), pixel.y());
       if (!p) break;
       seenByDepth = p;

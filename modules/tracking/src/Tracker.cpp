@@ -1,4 +1,4 @@
-#include <slamdunk/tracking/DepthNoiseModel.h>
+#include <slamdunk/core/DepthNoiseModel.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/Tracker.h>
 
@@ -12,8 +12,6 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
-const DepthNoiseModel kNoise;
-double depthNoiseVariance(double z) { return kNoise.variance(z); }
 
 /// How many of the inlier matches land in each keyframe.
 std::map<KeyframeId, size_t> inlierCountPerKeyframe(const FeaturePool& pool,
@@ -49,11 +47,14 @@ const char* toString(TrackingStatus s) {
 Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOptions,
                  std::shared_ptr<KeyframeGraph> graph)
     : options_(options),
+      noise_(featureOptions.noise),
+      noiseEstimator_(featureOptions.noise, options.noiseEstimation),
       extractor_(featureOptions),
       policy_(options.keyframes),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
-      localMap_(options.localMapOptions(), graph_),
-      sensorTiming_(options.sensorTiming) {
+      localMap_(options_.localMapOptions(), graph_),
+      sensorTiming_(options.sensorTiming),
+      rollingShutter_(options.sensorTiming.rollingShutterMs, options.rollingShutterEstimation) {
   for (KeyframeId id : graph_->ids()) {
     nextKeyframeId_ = std::max(nextKeyframeId_, id + 1);
     newestKeyframe_ = id;
@@ -82,8 +83,11 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   t = Clock::now();
   FeatureSet features = extractor_.extract(frame);
   // Rolling shutter and depth offset, undone with the motion since the last frame (constant
-  // velocity; nothing to undo without it), and again below with the motion measured.
+  // velocity; nothing to undo without it), and again below with the motion measured. Not on
+  // the frame right after the first: the first keyframe's own points could not be undone, and
+  // undoing this frame's alone made its pose worse (the shake: 2.0 -> 3.1 cm).
   const bool compensating = sensorTiming_.enabled() && lastMotion_ && lastMotionMs_ > 0;
+  double appliedReadoutMs = compensating ? sensorTiming_.rollingShutterMs() : 0.0;
   FeatureSet rawFeatures;
   if (compensating) {
     rawFeatures = features;
@@ -131,10 +135,11 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
       matchingWholeMap_ ? wholeMapPool(frame.intrinsics(), r) : localMap_.pool();
   bool registered = enoughFeatures && !startingFromMap &&
                     registerFrame(pool, frame, features, r, inlierMatches, pose);
-  if (registered && compensating)
-    reregisterWithMeasuredMotion(pool, frame, rawFeatures,
-                                 1000.0 * (frame.timestamp() - previousTimestamp), features, r,
-                                 inlierMatches, pose);
+  if (registered && compensating &&
+      reregisterWithMeasuredMotion(pool, frame, rawFeatures,
+                                   1000.0 * (frame.timestamp() - previousTimestamp), features, r,
+                                   inlierMatches, pose))
+    appliedReadoutMs = sensorTiming_.rollingShutterMs();
   if (!registered && enoughFeatures &&
       (startingFromMap ||
        (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter))))
@@ -145,6 +150,18 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   r.pose = pose;
   r.status = TrackingStatus::Tracked;
   r.lostReason.clear();
+  if (!r.depthOnly) {
+    // What this frame tells of the camera: its features' noise, and (if the camera moved
+    // since a tracked frame) its rolling shutter.
+    if (!lost_ && !r.relocalized && frame.timestamp() > previousTimestamp) {
+      rollingShutter_.addFrame(lastInliers_, lastInliersPose_, motionAtFrame(pose),
+                               1000.0 * (frame.timestamp() - previousTimestamp), noise_,
+                               appliedReadoutMs);
+      sensorTiming_.setRollingShutterMs(rollingShutter_.readoutMs());
+    }
+    noiseEstimator_.addFrame(lastInliers_, lastInliersPose_);
+    noise_ = noiseEstimator_.current();
+  }
 
   // Overlap with the map (paper Sec. 4.2): cells of inlier features, or for a frame registered
   // by depth alone, the share of its depth samples that found their surface (depth covers
@@ -263,27 +280,32 @@ bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pos
   return true;
 }
 
-void Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
-                                           const FeatureSet& raw, double intervalMs,
-                                           FeatureSet& features, TrackingResult& r,
-                                           std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+Pose Tracker::motionAtFrame(const Pose& pose) const {
   // The motion over the interval that ends at this frame, extrapolated to the frame's instant
   // by the change from the previous interval (a hand accelerates quickly: a shaking camera
   // reverses within a few frames, and the previous interval alone points the wrong way).
   const Pose measured = lastPose_.inverse() * pose;
-  const Pose change = lastMotion_->inverse() * measured;
-  const Pose atFrame = measured * SensorTiming::interpolate(change, 0.5);
+  if (!lastMotion_) return measured;
+  return measured * SensorTiming::interpolate(lastMotion_->inverse() * measured, 0.5);
+}
+
+bool Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
+                                           const FeatureSet& raw, double intervalMs,
+                                           FeatureSet& features, TrackingResult& r,
+                                           std::vector<PoolMatch>& inlierMatches, Pose& pose) {
+  const Pose atFrame = motionAtFrame(pose);
   FeatureSet again = raw;
   sensorTiming_.compensate(again, frame, atFrame, intervalMs);
   TrackingResult second = r;
   std::vector<PoolMatch> secondInliers;
   Pose secondPose;
   const std::vector<PoolMatch> matches = std::move(lastMatches_);
-  if (!registerFrame(pool, frame, again, second, secondInliers, secondPose, &matches)) return;
+  if (!registerFrame(pool, frame, again, second, secondInliers, secondPose, &matches)) return false;
   r = second;
   inlierMatches = std::move(secondInliers);
   pose = secondPose;
   features = std::move(again);
+  return true;
 }
 
 bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
@@ -307,8 +329,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
     const PoolFeature& f = pool.feature(m.pool);
     src.push_back(features.points[m.query]);
     dst.push_back(f.pointWorld);
-    weights.push_back(
-        1.0 / (depthNoiseVariance(src.back().z()) + depthNoiseVariance(f.pointKeyframe.z())));
+    weights.push_back(1.0 /
+                      (noise_.variance(src.back().z()) + noise_.variance(f.pointKeyframe.z())));
   }
   const RansacResult ransac = ransacAbsoluteOrientation(
       src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
@@ -322,13 +344,29 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   if (options_.anisotropicRefinement) {
     std::vector<PosePair> pairs;
     pairs.reserve(ransac.inlierCount);
-    for (size_t i = 0; i < matches.size(); ++i)
-      if (ransac.inliers[i])
-        pairs.push_back({src[i], dst[i], kNoise.covariance(src[i]),
-                         pool.feature(matches[i].pool).covarianceWorld});
+    std::map<KeyframeId, Eigen::Matrix3d> keyframeRotations;
+    for (size_t i = 0; i < matches.size(); ++i) {
+      if (!ransac.inliers[i]) continue;
+      const PoolFeature& f = pool.feature(matches[i].pool);
+      // The map point's noise lies along its own keyframe's ray, rotated into the world.
+      auto R = keyframeRotations.find(f.keyframe);
+      if (R == keyframeRotations.end())
+        R = keyframeRotations.emplace(f.keyframe, pool.poseAtBuild(f.keyframe)->linear()).first;
+      pairs.push_back({src[i], dst[i], noise_.covariance(src[i]),
+                       R->second * noise_.covariance(f.pointKeyframe) * R->second.transpose()});
+    }
     lastDepthTerm_ = depthTermFor(frame, pool, matches, ransac.inliers, lastDepthReference_);
     pose = refinePose(pose, pairs, {}, lastDepthTerm_ ? &*lastDepthTerm_ : nullptr);
   }
+  // What this registration tells of the features' noise, at the pose in the pool's world.
+  std::vector<InlierSample> inlierSamples;
+  inlierSamples.reserve(ransac.inlierCount);
+  const double rows = frame.grey().rows;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (ransac.inliers[i])
+      inlierSamples.push_back({src[i], dst[i], pool.feature(matches[i].pool).pointKeyframe.z(),
+                               (features.keypoints[matches[i].query].pt.y + 0.5) / rows - 0.5});
+  const Pose poseInPool = pose;
   // The pool's world points carry the keyframe poses of its snapshot, which the optimization
   // may have moved since (a pool is handed over frames after it was asked for). The frame is
   // measured against its dominant keyframe: keep that relative pose, in today's world.
@@ -349,6 +387,8 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
     return false;
   }
   r.inliers = ransac.inlierCount;
+  lastInliers_ = std::move(inlierSamples);
+  lastInliersPose_ = poseInPool;
   inlierMatches.clear();
   for (size_t i = 0; i < matches.size(); ++i)
     if (ransac.inliers[i]) inlierMatches.push_back(matches[i]);
@@ -462,7 +502,7 @@ KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, c
 void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features, const FeaturePool& pool,
                            const std::vector<PoolMatch>& inlierMatches) {
   // Normalised so that a match of two points 1 m away keeps about the paper's weight.
-  static const double unitVariance = 2 * kNoise.variance(1.0);
+  const double unitVariance = 2 * noise_.variance(1.0);
   const double scaleSigma = options_.keypointScaleSigma;
   const Eigen::Matrix3d R_new = graph_->pose(id).linear();
   std::map<KeyframeId, KeyframePtr> others;
@@ -473,18 +513,21 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features, const Feat
     auto other = others.find(f.keyframe);
     if (other == others.end())
       other = others.emplace(f.keyframe, graph_->keyframe(f.keyframe)).first;
-    const Eigen::Vector3d& pOther = f.pointKeyframe;
+    // As measured, not as refined: each edge keeps the measurements the optimization weighs.
+    const Eigen::Vector3d& pOther = other->second->features.points[f.index];
     const Eigen::Vector3d& pNew = features.points[m.query];
-    const double scaleVarOther = kNoise.keypointScaleVariance(
+    const double scaleVarOther = noise_.keypointScaleVariance(
         pOther.z(), other->second->features.keypoints[f.index].size, scaleSigma);
     const double scaleVarNew =
-        kNoise.keypointScaleVariance(pNew.z(), features.keypoints[m.query].size, scaleSigma);
+        noise_.keypointScaleVariance(pNew.z(), features.keypoints[m.query].size, scaleSigma);
     PointMatch pm{pOther, pNew, 1.0 - m.ratio};  // paper Sec. 4.3: w = 1 - θ'
+    pm.featureI = f.index;
+    pm.featureJ = m.query;
     switch (options_.edgeInformation) {
       case EdgeInformation::Paper:
         break;
       case EdgeInformation::Isotropic:
-        pm.weight *= unitVariance / (kNoise.variance(pOther.z()) + kNoise.variance(pNew.z()) +
+        pm.weight *= unitVariance / (noise_.variance(pOther.z()) + noise_.variance(pNew.z()) +
                                      scaleVarOther + scaleVarNew);
         break;
       case EdgeInformation::Anisotropic: {
@@ -498,8 +541,8 @@ void Tracker::linkKeyframe(KeyframeId id, const FeatureSet& features, const Feat
           const Eigen::Vector3d ray = p.normalized();
           return Eigen::Matrix3d(Eigen::Matrix3d::Identity() - ray * ray.transpose());
         };
-        const Eigen::Matrix3d covOther = kNoise.covariance(pOther) + scaleVarOther * across(pOther);
-        const Eigen::Matrix3d covNew = kNoise.covariance(pNew) + scaleVarNew * across(pNew);
+        const Eigen::Matrix3d covOther = noise_.covariance(pOther) + scaleVarOther * across(pOther);
+        const Eigen::Matrix3d covNew = noise_.covariance(pNew) + scaleVarNew * across(pNew);
         pm.information = unitVariance * (covOther + R * covNew * R.transpose()).inverse();
         break;
       }
@@ -517,7 +560,7 @@ void Tracker::linkKeyframeDepth(KeyframeId id, const Pose& pose) {
   // Evenly thinned to bound the map's size; the weight keeps the total information.
   const size_t keep = std::min<size_t>(all.size(), options_.depthEdgeMaxMatches);
   const double scale = static_cast<double>(all.size()) / keep;
-  static const double unitVariance = 2 * kNoise.variance(1.0);
+  const double unitVariance = 2 * noise_.variance(1.0);
   std::vector<PointMatch> matches;
   matches.reserve(keep);
   for (size_t k = 0; k < keep; ++k) {

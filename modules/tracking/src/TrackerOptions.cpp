@@ -71,6 +71,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   depthEdgeMaxMatches = r.readInt("depth_edge_max_matches", depthEdgeMaxMatches);
   depthEdgeWeight = r.readDouble("depth_edge_weight", depthEdgeWeight);
   depthOnlyFallback = r.readBool("depth_only_fallback", depthOnlyFallback);
+  noiseEstimation.enabled = r.readBool("estimate_keypoint_noise", noiseEstimation.enabled);
+  rollingShutterEstimation.enabled =
+      r.readBool("estimate_rolling_shutter", rollingShutterEstimation.enabled);
   sensorTiming.rollingShutterMs = r.readDouble("rolling_shutter_ms", sensorTiming.rollingShutterMs);
   sensorTiming.depthTimeOffsetMs =
       r.readDouble("depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
@@ -166,6 +169,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "depth_edge_max_matches", depthEdgeMaxMatches);
   cfg.write(s, "depth_edge_weight", depthEdgeWeight);
   cfg.write(s, "depth_only_fallback", depthOnlyFallback);
+  cfg.write(s, "estimate_keypoint_noise", noiseEstimation.enabled);
+  cfg.write(s, "estimate_rolling_shutter", rollingShutterEstimation.enabled);
   cfg.write(s, "rolling_shutter_ms", sensorTiming.rollingShutterMs);
   cfg.write(s, "depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
   cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);

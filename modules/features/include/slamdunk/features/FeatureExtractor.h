@@ -2,6 +2,7 @@
 // Detects keypoints on the grey image, keeps those with valid depth (the strongest, up to a
 // cap), describes them and back-projects them (undistorted keypoint, depth at its pixel).
 
+#include <slamdunk/core/DepthNoiseModel.h>
 #include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/features/FeatureSet.h>
 
@@ -34,6 +35,9 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
   /// than this fraction: on a depth edge a pixel of misregistration picks the wrong surface.
   double maxDepthDiscontinuity = 0.05;
   int depthCheckRadius = 2;  ///< 0 disables the check
+  /// How precisely a feature is measured: its keypoint's pixel and the depth read there. Used
+  /// wherever features are weighed (pose refinement, graph edges, bundle adjustment).
+  DepthNoiseModel noise;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

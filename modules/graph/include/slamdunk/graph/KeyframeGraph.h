@@ -5,7 +5,9 @@
 #include <slamdunk/graph/Keyframe.h>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <shared_mutex>
 #include <vector>
@@ -21,6 +23,13 @@ struct PointMatch {
   /// Normalised information of e in keyframe i's frame (symmetric positive definite). The
   /// identity is the paper's isotropic cost; a depth-noise model makes it ray-aligned.
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  /// The matched features' indices in keyframe i's and j's FeatureSet, when the match joins two
+  /// features (a bundle adjustment then follows each feature through the keyframes that saw
+  /// it); kNoFeature for matches of dense depth.
+  static constexpr uint32_t kNoFeature = UINT32_MAX;
+  uint32_t featureI = kNoFeature;
+  uint32_t featureJ = kNoFeature;
+  bool joinsFeatures() const { return featureI != kNoFeature && featureJ != kNoFeature; }
 
   /// eᵀ Ω e for a relative pose T_i⁻¹ T_j (without the weight).
   double squaredError(const Eigen::Isometry3d& relative) const {
@@ -39,13 +48,20 @@ struct KeyframeEdge {
 /// feature pool, whose size follows the window, are not in it).
 struct GraphMemory {
   size_t keyframes = 0;
-  size_t features = 0;    ///< keypoints, descriptors and 3D points
+  size_t features = 0;    ///< keypoints, descriptors and 3D points (measured and refined)
   size_t depthSmall = 0;  ///< the subsampled depth of the dense alignment
   size_t images = 0;      ///< colour and depth, when kept
   size_t edges = 0;       ///< point matches and the edge records
   size_t withoutImages() const { return features + depthSmall + edges; }
   size_t total() const { return withoutImages() + images; }
 };
+
+/// Positions of a keyframe's features refined by a landmark bundle adjustment, in the
+/// keyframe's frame, one per feature (as measured where no landmark refined it). Immutable once
+/// published: a new vector replaces it.
+using RefinedPoints = std::shared_ptr<const std::vector<Eigen::Vector3d>>;
+/// Refined positions of some features, per keyframe: (feature index, point in its frame).
+using PointRefinements = std::map<KeyframeId, std::vector<std::pair<uint32_t, Eigen::Vector3d>>>;
 
 class KeyframeGraph {
  public:
@@ -63,8 +79,11 @@ class KeyframeGraph {
   /// Every keyframe id in increasing order.
   std::vector<KeyframeId> ids() const;
   std::map<KeyframeId, Pose> poses() const;
-  /// Replaces the poses of the given keyframes at once (one lock: readers never see a mix).
-  void setPoses(const std::map<KeyframeId, Pose>& poses);
+  /// Replaces the poses of the given keyframes, and the refined positions of the given
+  /// features, at once (one lock: readers never see a mix).
+  void setPoses(const std::map<KeyframeId, Pose>& poses, const PointRefinements& refined = {});
+  /// The keyframe's refined feature positions; null if none was refined.
+  RefinedPoints refinedPoints(KeyframeId id) const;
 
   std::vector<KeyframeId> neighbours(KeyframeId id) const;
   /// Breadth-first rings from root: ring 0 = {root}; keyframes up to maxRing hops, id -> ring.
@@ -83,6 +102,7 @@ class KeyframeGraph {
   mutable std::shared_mutex mutex_;
   std::map<KeyframeId, KeyframePtr> keyframes_;
   std::map<KeyframeId, Pose> poses_;
+  std::map<KeyframeId, RefinedPoints> refined_;
   std::map<EdgeKey, KeyframeEdge> edges_;
   std::map<KeyframeId, std::vector<KeyframeId>> adjacency_;
 };

@@ -35,7 +35,7 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
 
  public:
   /// Newest serialization version this build writes and reads.
-  static constexpr uint8_t kSerializationVersion = 0;
+  static constexpr uint8_t kSerializationVersion = 1;
 
   CKeyframeGraphMap();
   /// Shares the graph (no copy): the map shows what the SLAM system is building. The map never

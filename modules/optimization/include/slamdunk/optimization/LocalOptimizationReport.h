@@ -20,6 +20,8 @@ struct LocalOptimizationReport {
   int verticesFixed = 0;      ///< constant poses in the problem (outer ring, or the gauge vertex)
   int edges = 0;              ///< keyframe pairs contributing at least one residual
   int residuals = 0;          ///< point matches in the problem
+  int landmarks = 0;          ///< landmark form: landmarks optimised with the poses
+  int observations = 0;       ///< landmark form: their observations (residuals of 3)
   int invalidMatches = 0;     ///< skipped: non-finite point or weight, or negative weight
   int droppedMatches = 0;     ///< skipped: weight zero or below LocalOptimizerOptions::minWeight
   /// Σ w ρ(‖e‖²) over the residuals (paper Eq. 4 when the robust loss is "none").

@@ -3,6 +3,7 @@
 // Σ w ‖p_i − T_i⁻¹ T_j p_j‖² over the point matches of the keyframes within R rings of a root.
 // Ceres is an implementation detail: this header does not include it.
 
+#include <slamdunk/core/DepthNoiseModel.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/optimization/LocalOptimizationReport.h>
 
@@ -18,10 +19,14 @@ enum class RobustLoss { None, Huber, Cauchy };
 RobustLoss robustLossFromString(const std::string& name);
 std::string toString(RobustLoss loss);
 
-/// How Eq. 4 is handed to Ceres. Edge: one residual per edge built from the matches' weighted
-/// moments (same minimiser and Gauss-Newton steps, cost independent of the match count; robust
-/// losses by reweighting rounds). Match: one residual per match (textbook form, slower).
-enum class ResidualForm { Edge, Match };
+/// The cost the local optimization minimises. Edge and match are paper Eq. 4 (3D-3D point
+/// differences): edge, one residual per edge built from the matches' weighted moments (same
+/// minimiser and Gauss-Newton steps, cost independent of the match count; robust losses by
+/// reweighting rounds); match, one residual per match (textbook form, slower). Landmarks goes
+/// beyond the paper: the feature matches are followed from keyframe to keyframe into landmarks
+/// (one 3D point per scene point, optimised too), each observed in pixels and depth with the
+/// features' own precisions (LandmarkResidual).
+enum class ResidualForm { Edge, Match, Landmarks };
 ResidualForm residualFormFromString(const std::string& name);
 std::string toString(ResidualForm form);
 
@@ -38,8 +43,13 @@ struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   int numThreads = 1;          ///< 1 keeps results bit-reproducible
   double minWeight = 0.0;      ///< matches with a smaller weight are dropped (weight 0 always is)
   double maxSolverTimeMs = 0;  ///< 0 = no time cap (a cap makes results timing-dependent)
-  ResidualForm residualForm = ResidualForm::Edge;
+  ResidualForm residualForm = ResidualForm::Landmarks;
   int irlsMaxRounds = 8;  ///< edge form with a robust loss: cap on reweighting rounds
+  /// Landmark form: where the robust loss bends, in standard deviations of an observation.
+  double landmarkLossScale = 2.5;
+  /// Landmark form: precision of the features' pixels and depths. Not an [optimizer] key: the
+  /// pipeline takes it from [features] (the same model weighs them in tracking).
+  DepthNoiseModel noise;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

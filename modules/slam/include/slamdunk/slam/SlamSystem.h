@@ -36,6 +36,9 @@ struct SlamStatistics {
   double maxOptimizationRotationDeg = 0;
   std::vector<std::string> lostReasons;  ///< distinct reasons, first occurrence order
   PoolPreparationStats poolPreparation;  ///< Local Mapping's background index builds
+  /// What the tracker learned of the camera (or the INI's values where it learns nothing).
+  double rollingShutterMs = 0;
+  DepthNoiseModel keypointNoise;
 };
 
 class SlamSystem {
@@ -62,14 +65,15 @@ class SlamSystem {
   const SlamOptions& options() const { return options_; }
 
  private:
-  void optimizeAround(KeyframeId root);
+  void optimizeAround(KeyframeId root, const DepthNoiseModel& noise);
+  /// The optimizer weighing the features with the tracker's current noise model.
+  LocalOptimizer optimizerFor(const DepthNoiseModel& noise) const;
   void optimizerLoop();
   void waitForOptimizer();
 
   SlamOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
   Tracker tracker_;
-  LocalOptimizer optimizer_;
   std::vector<FrameRecord> frames_;
   SlamStatistics stats_;
 
@@ -78,6 +82,7 @@ class SlamSystem {
   std::condition_variable jobCv_;
   bool jobPending_ = false, busy_ = false, stopping_ = false;
   KeyframeId jobRoot_ = 0;
+  DepthNoiseModel jobNoise_;
   std::thread optimizerThread_;
 };
 

@@ -51,9 +51,8 @@ struct FeaturePoolOptions {
 struct PoolFeature {
   KeyframeId keyframe = 0;
   uint32_t index = 0;             ///< feature index within the keyframe
-  Eigen::Vector3d pointKeyframe;  ///< in the keyframe's optical frame
+  Eigen::Vector3d pointKeyframe;  ///< in the keyframe's optical frame (refined if it was)
   Eigen::Vector3d pointWorld;     ///< with the keyframe pose at build time (poseAtBuild)
-  Eigen::Matrix3d covarianceWorld = Eigen::Matrix3d::Identity();  ///< depth noise, world frame
 };
 
 struct PoolMatch {
@@ -66,6 +65,9 @@ struct PoolMatch {
 struct PoolSnapshot {
   std::vector<KeyframePtr> keyframes;
   std::vector<Pose> poses;  ///< T_world_keyframe, one per keyframe
+  /// The features' positions refined by the bundle adjustment, one per keyframe (null: as
+  /// measured).
+  std::vector<RefinedPoints> refined;
   /// Frustum of a camera with intrinsics K at `center` (world pose of its optical frame);
   /// unset: every feature is kept (a keyframe's own features need no frustum).
   std::optional<std::pair<Pose, CameraIntrinsics>> frustum;

@@ -25,6 +25,9 @@ class SensorTiming {
  public:
   explicit SensorTiming(const SensorTimingOptions& options) : options_(options) {}
   bool enabled() const { return options_.any(); }
+  double rollingShutterMs() const { return options_.rollingShutterMs; }
+  /// A new readout time (RollingShutterEstimator learns it as frames come).
+  void setRollingShutterMs(double ms) { options_.rollingShutterMs = ms; }
 
   /// Moves every feature's 3D point (and keeps its keypoint) into the camera frame at the
   /// frame's time, the camera moving by `motion` (T_before_after, in the camera frame) every

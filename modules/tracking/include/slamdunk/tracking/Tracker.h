@@ -12,8 +12,10 @@
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/KeypointNoiseEstimator.h>
 #include <slamdunk/tracking/LocalMap.h>
 #include <slamdunk/tracking/PoseRefinement.h>
+#include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
 #include <atomic>
@@ -70,6 +72,12 @@ class Tracker {
   const LocalMap& localMap() const { return localMap_; }
   const TrackerOptions& options() const { return options_; }
   const FeatureExtractor& extractor() const { return extractor_; }
+  /// The features' noise model now: the INI's until enough frames were measured, then the
+  /// estimate (TrackerOptions::noiseEstimation).
+  const DepthNoiseModel& noiseModel() const { return noise_; }
+  /// The colour camera's rolling-shutter readout in use (ms): the INI's until enough motion
+  /// was seen, then the estimate (TrackerOptions::rollingShutterEstimation).
+  double rollingShutterMs() const { return sensorTiming_.rollingShutterMs(); }
 
  private:
   TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r);
@@ -78,10 +86,13 @@ class Tracker {
   bool registerFrame(const FeaturePool& pool, const RgbdFrame& frame, const FeatureSet& features,
                      TrackingResult& r, std::vector<PoolMatch>& inlierMatches, Pose& pose,
                      const std::vector<PoolMatch>* matches = nullptr);
+  /// The camera's motion per frame interval at this frame's time (T_before_after), from the
+  /// last tracked frame to `pose`.
+  Pose motionAtFrame(const Pose& pose) const;
   /// Second pass of the sensor-timing compensation: with the motion just measured, the
   /// features' points are moved again from `raw` and the frame registered with the same
-  /// matches. Keeps the first result if that fails.
-  void reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
+  /// matches. Keeps the first result if that fails (false).
+  bool reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
                                     const FeatureSet& raw, double intervalMs, FeatureSet& features,
                                     TrackingResult& r, std::vector<PoolMatch>& inlierMatches,
                                     Pose& pose);
@@ -111,6 +122,11 @@ class Tracker {
   bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
 
   TrackerOptions options_;
+  /// The features' noise: weighs them in registration and edges (estimated as frames come).
+  DepthNoiseModel noise_;
+  KeypointNoiseEstimator noiseEstimator_;
+  std::vector<InlierSample> lastInliers_;    ///< of the last successful registration
+  Pose lastInliersPose_ = Pose::Identity();  ///< its pose in its pool's world
   FeatureExtractor extractor_;
   KeyframePolicy policy_;
   std::shared_ptr<KeyframeGraph> graph_;
@@ -126,6 +142,7 @@ class Tracker {
   std::vector<PoolMatch> lastMatches_;  ///< last frame's pool matches (kept only with SensorTiming)
   double lastTimestamp_ = 0;            ///< of the last frame processed
   SensorTiming sensorTiming_;
+  RollingShutterEstimator rollingShutter_;
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
   cv::Mat fittedNormals_;         ///< of fittedNormalsKeyframe_'s depth, for depth alone
   KeyframeId fittedNormalsKeyframe_ = 0;

@@ -4,8 +4,10 @@
 #include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
+#include <slamdunk/tracking/KeypointNoiseEstimator.h>
 #include <slamdunk/tracking/LocalMap.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
+#include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/SensorTiming.h>
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -65,6 +67,12 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// Rolling shutter and colour-depth time offset of the camera, undone with the predicted
   /// motion (SensorTiming.h); 0 = every pixel at the frame's time.
   SensorTimingOptions sensorTiming;
+  /// Learn the features' noise from the registered frames ([features] keypoint_*_sigma are the
+  /// starting values), see KeypointNoiseEstimator.h.
+  KeypointNoiseEstimatorOptions noiseEstimation;
+  /// Learn the colour camera's rolling-shutter readout (rolling_shutter_ms is the starting
+  /// value), see RollingShutterEstimator.h.
+  RollingShutterEstimatorOptions rollingShutterEstimation;
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
