@@ -35,12 +35,12 @@ void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r)
   const Eigen::Vector3d t = r.pose.translation();
   std::snprintf(buf, sizeof(buf),
                 "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%"
-                "zu,%d,%.3f,",
+                "zu,%d,%.3f,%d,",
                 index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers, r.overlap,
                 r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0, r.reference,
                 r.timings.features, r.timings.pool, r.timings.matching, r.timings.ransac,
                 r.timings.total, t.x(), t.y(), t.z(), r.poolSize, r.depthOnly ? 1 : 0,
-                r.timings.poolWait);
+                r.timings.poolWait, r.overlapCells);
   std::string reason = r.lostReason;
   for (char& c : reason)
     if (c == ',') c = ';';
@@ -175,7 +175,7 @@ int main(int argc, char** argv) {
       frameLog.open(frameLogOut->tempPath());
       frameLog << "index,timestamp,status,features,matches,inliers,overlap,new_keyframe,"
                   "keyframe_id,loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,"
-                  "ms_total,tx,ty,tz,pool_size,depth_only,ms_pool_wait,lost_reason\n";
+                  "ms_total,tx,ty,tz,pool_size,depth_only,ms_pool_wait,overlap_cells,lost_reason\n";
     }
     std::shared_ptr<KeyframeGraph> startMap;
     if (argLoadMap.isSet()) {

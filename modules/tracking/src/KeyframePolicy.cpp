@@ -19,16 +19,19 @@ std::vector<int> cellCounts(const std::vector<cv::Point2f>& pts, int cols, int r
 
 double KeyframePolicy::overlap(const std::vector<cv::Point2f>& inlierPixels,
                                const std::vector<cv::Point2f>& allFeaturePixels, int width,
-                               int height) const {
+                               int height, int* eligibleCells) const {
   const int cols = std::max(1, options_.gridCols), rows = std::max(1, options_.gridRows);
   const auto inl = cellCounts(inlierPixels, cols, rows, width, height);
   const auto all = cellCounts(allFeaturePixels, cols, rows, width, height);
   int eligible = 0, covered = 0;
   for (size_t i = 0; i < inl.size(); ++i) {
-    if (options_.onlyTexturedCells && all[i] <= options_.minInliersPerCell) continue;
+    if (options_.onlyTexturedCells &&
+        (all[i] <= options_.minInliersPerCell || all[i] < options_.texturedCellFeatures))
+      continue;
     ++eligible;
     if (inl[i] > options_.minInliersPerCell) ++covered;
   }
+  if (eligibleCells) *eligibleCells = eligible;
   return eligible == 0 ? 0.0 : static_cast<double>(covered) / eligible;
 }
 

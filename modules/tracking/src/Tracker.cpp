@@ -175,7 +175,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   }
   if (!r.depthOnly) {  // registerByDepthOnly set it
     for (const auto& kp : features.keypoints) allPixels.push_back(kp.pt);
-    r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows);
+    r.overlap = policy_.overlap(inlierPixels, allPixels, frame.grey().cols, frame.grey().rows,
+                                &r.overlapCells);
   }
 
   const KeyframeId reference =

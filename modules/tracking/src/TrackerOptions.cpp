@@ -105,6 +105,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   keyframes.minInliersPerCell = r.readInt("cell_min_inliers", keyframes.minInliersPerCell);
   keyframes.minOverlap = r.readDouble("keyframe_overlap", keyframes.minOverlap);
   keyframes.onlyTexturedCells = r.readBool("only_textured_cells", keyframes.onlyTexturedCells);
+  keyframes.texturedCellFeatures =
+      r.readInt("textured_cell_features", keyframes.texturedCellFeatures);
   r.rejectUnknownKeys();
 
   auto require = [&](bool ok, const char* what) {
@@ -197,6 +199,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "cell_min_inliers", keyframes.minInliersPerCell);
   cfg.write(s, "keyframe_overlap", keyframes.minOverlap);
   cfg.write(s, "only_textured_cells", keyframes.onlyTexturedCells);
+  cfg.write(s, "textured_cell_features", keyframes.texturedCellFeatures);
 }
 
 }  // namespace slamdunk

@@ -16,15 +16,20 @@ struct KeyframePolicyOptions {
   /// Count only cells where the frame itself has more than F features: a textureless part of
   /// the view (a white wall) can never overlap and would otherwise force a keyframe per frame.
   bool onlyTexturedCells = true;
+  /// A cell is textured when the frame has at least this many features in it (and more than
+  /// F). 0: more than F, the paper's reading.
+  int texturedCellFeatures = 0;
 };
 
 class KeyframePolicy {
  public:
   explicit KeyframePolicy(KeyframePolicyOptions options = {}) : options_(options) {}
 
-  /// Fraction of (eligible) cells holding more than F inliers.
+  /// Fraction of (eligible) cells holding more than F inliers; `eligibleCells`, if given, gets
+  /// how many cells counted.
   double overlap(const std::vector<cv::Point2f>& inlierPixels,
-                 const std::vector<cv::Point2f>& allFeaturePixels, int width, int height) const;
+                 const std::vector<cv::Point2f>& allFeaturePixels, int width, int height,
+                 int* eligibleCells = nullptr) const;
   bool shouldSpawn(double overlap) const { return overlap < options_.minOverlap; }
   const KeyframePolicyOptions& options() const { return options_; }
 

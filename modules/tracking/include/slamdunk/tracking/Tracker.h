@@ -50,6 +50,7 @@ struct TrackingResult {
   size_t features = 0, matches = 0, inliers = 0;
   size_t poolSize = 0;  ///< features in the pool this frame was matched against
   double overlap = 0;
+  int overlapCells = 0;  ///< grid cells the overlap counted (those where the frame has features)
   std::vector<KeyframeId> matchedKeyframes;
   std::string lostReason;
   StageTimings timings;
