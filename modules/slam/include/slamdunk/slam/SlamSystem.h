@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
   size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
+  size_t relocalizations = 0;  ///< frames registered against the whole map after being lost
+  /// Frames not processed because their timestamp was not after the previous frame's (a
+  /// repeated or backward stamp), and the first few reasons, each naming the frame.
+  size_t framesOutOfOrder = 0;
+  std::vector<std::string> outOfOrderExamples;
   std::vector<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
   std::vector<double> optimizationMs;      ///< one per local optimization
   double maxOptimizationTranslation = 0;   ///< metres: largest pose change by any optimization
@@ -47,6 +53,9 @@ class SlamSystem {
 
   /// Builds the frame from the observation; a malformed observation (no depth, sizes that
   /// disagree, ...) is reported as a lost frame with the reason, never thrown.
+  /// A frame whose timestamp is not after the last processed frame's (repeated, or going
+  /// backwards) is skipped: result.skipped, status Lost, the reason naming both frames; it is
+  /// neither tracked nor counted lost, so the trajectory's stamps always increase.
   TrackingResult process(const mrpt::obs::CObservation3DRangeScan& obs);
   TrackingResult process(const RgbdFrame& frame);
 
@@ -62,6 +71,9 @@ class SlamSystem {
   const SlamOptions& options() const { return options_; }
 
  private:
+  /// The skip result for a frame whose timestamp does not increase, or nullopt.
+  std::optional<TrackingResult> outOfOrder(double timestamp);
+  TrackingResult track(const RgbdFrame& frame);
   void optimizeAround(KeyframeId root);
   void optimizerLoop();
   void waitForOptimizer();
@@ -72,6 +84,9 @@ class SlamSystem {
   LocalOptimizer optimizer_;
   std::vector<FrameRecord> frames_;
   SlamStatistics stats_;
+  size_t framesGiven_ = 0;         ///< every call of process(), skipped frames included
+  size_t lastProcessedIndex_ = 0;  ///< of the last frame not skipped
+  std::optional<double> lastProcessedTimestamp_;
 
   mutable std::mutex statsMutex_;  // optimization figures are written by the optimizer thread
   std::mutex jobMutex_;
