@@ -4,6 +4,7 @@
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/TumTrajectory.h>
 
+#include "EditedRawlog.h"
 #include "TestData.h"
 
 #include <gtest/gtest.h>
@@ -209,32 +210,13 @@ TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectoriesOnRealData) {
 
 // ------------------------------------------------------------------ bad input
 
-namespace {
-
-/// The first `count` frames of a prepared rawlog, each passed through `edit`, written to `out`.
-template <class Edit>
-void writeEdited(const std::string& src, const std::string& out, size_t count, Edit edit) {
-  RawlogReader reader(src);
-  mrpt::io::CFileGZOutputStream f(out);
-  auto a = mrpt::serialization::archiveFrom(f);
-  for (size_t i = 0; i < count; ++i) {
-    auto obs = reader.next();
-    ASSERT_TRUE(obs);
-    obs->load();
-    edit(i, *obs);
-    a << *obs;
-  }
-}
-
-}  // namespace
-
 TEST(SlamdunkRawlogBadInput, ZeroDepthAndWrongSizeFramesAreLostABlackFrameIsTrackedByDepth) {
   REQUIRE_RAWLOG(src, "synthetic_sweep");
   const std::string dir = test::scratchDir("SlamBad_ZeroDepth");
   const std::string rawlog = dir + "/damaged.rawlog";
   std::vector<double> damagedStamps;
   double blackStamp = 0;
-  writeEdited(src, rawlog, 30, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
+  test::writeEditedRawlog(src, rawlog, 30, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
     if ((i >= 10 && i < 15) || i == 22) damagedStamps.push_back(mrpt::Clock::toDouble(o.timestamp));
     if (i == 20) blackStamp = mrpt::Clock::toDouble(o.timestamp);
     if (i >= 10 && i < 15) o.rangeImage.fill(0);                           // all-zero depth
@@ -291,7 +273,7 @@ std::vector<std::string> frameLogColumn(const std::string& path, const std::stri
 std::string withLightsOff(const std::string& src, const std::string& dir, size_t frames,
                           size_t first, size_t last) {
   const std::string out = dir + "/dark.rawlog";
-  writeEdited(src, out, frames, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
+  test::writeEditedRawlog(src, out, frames, [&](size_t i, mrpt::obs::CObservation3DRangeScan& o) {
     if (i >= first && i < last) o.intensityImage.asCvMatRef().setTo(cv::Scalar::all(0));
   });
   return out;
@@ -428,7 +410,7 @@ TEST(SlamdunkRawlogBadInput, MissingRawlogAndBadGroundTruth) {
 TEST(SlamdunkRawlogBadInput, TruncatedRawlogKeepsTheFramesBeforeTheDamage) {
   REQUIRE_RAWLOG(src, "synthetic_sweep");
   const std::string dir = test::scratchDir("SlamBad_Truncated");
-  writeEdited(src, dir + "/full.rawlog", 40, [](size_t, auto&) {});
+  test::writeEditedRawlog(src, dir + "/full.rawlog", 40, [](size_t, auto&) {});
   const auto size = fs::file_size(dir + "/full.rawlog");
   {
     std::ifstream in(dir + "/full.rawlog", std::ios::binary);
