@@ -6,6 +6,7 @@
 
 #include "FrameSource.h"
 #include "LatestFrameQueue.h"
+#include "LiveFrameLog.h"
 #include "RawlogRecorder.h"
 
 #include <slamdunk/slam/SlamSystem.h>
@@ -21,6 +22,7 @@ namespace slamdunk::live {
 
 /// A consistent-enough picture of the counters (each one is exact; they are read one by one).
 struct LiveCounters {
+  /// processed = tracked + lost + frames skipped for a timestamp that did not increase
   size_t received = 0, processed = 0, dropped = 0, tracked = 0, lost = 0, keyframes = 0;
   TrackingStatus lastStatus = TrackingStatus::Lost;
   double activeSeconds = 0;  ///< from the first frame received to the last one processed
@@ -35,6 +37,8 @@ class LivePipeline {
   LivePipeline(const LivePipeline&) = delete;
   LivePipeline& operator=(const LivePipeline&) = delete;
 
+  /// Optional, before start(): one line per processed frame, written by the tracking thread.
+  void setFrameLog(LiveFrameLog* log) { frameLog_ = log; }
   void start();
   /// Waits until the source is open (true), it failed (throws its error), `timeoutSeconds`
   /// passed or `interrupted` became true (false).
@@ -59,6 +63,7 @@ class LivePipeline {
   FrameSource& source_;
   SlamSystem& slam_;
   RawlogRecorder* recorder_;
+  LiveFrameLog* frameLog_ = nullptr;
   const size_t maxFrames_;
   LatestFrameQueue queue_;
 
