@@ -121,7 +121,7 @@ LiveCounters LivePipeline::counters() const {
 
 std::vector<double> LivePipeline::latenciesMs() const {
   std::lock_guard lock(mutex_);
-  return latenciesMs_;
+  return {latenciesMs_.begin(), latenciesMs_.end()};
 }
 
 std::string LivePipeline::error() const {

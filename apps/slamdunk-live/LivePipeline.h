@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -77,7 +78,7 @@ class LivePipeline {
   std::condition_variable openChanged_;
   OpenState openState_ = OpenState::Pending;
   std::string error_;
-  std::vector<double> latenciesMs_;
+  std::deque<double> latenciesMs_;  ///< grows by blocks for as long as the session runs
 
   std::thread grabber_, tracker_;
 };
