@@ -35,6 +35,7 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
     r.readString("driver", "");
     std::string rawlog = r.readString("rawlog", "");
     double speed = r.readDouble("speed", 1.0);
+    const int loops = r.readInt("loops", 1);
     r.rejectUnknownKeys();
     rawlog = overrides.rawlog ? *overrides.rawlog : resolve(rawlog, iniDir);
     if (overrides.speed) speed = *overrides.speed;
@@ -42,7 +43,9 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
       throw std::runtime_error("no rawlog to replay: set [" + section +
                                "] rawlog or pass --rawlog");
     if (!(speed > 0)) throw std::runtime_error("replay speed must be > 0 (1 = real time)");
-    return std::make_unique<ReplayFrameSource>(rawlog, speed);
+    if (loops < 0)
+      throw std::runtime_error("[" + section + "] loops must be >= 0 (0 = until stopped)");
+    return std::make_unique<ReplayFrameSource>(rawlog, speed, loops);
   }
   if (overrides.rawlog || overrides.speed)
     throw std::runtime_error("--rawlog and --speed apply to a replay source only; [" + section +

@@ -88,12 +88,17 @@ void LivePipeline::trackingLoop() {
     }
     frame.reset();  // free the images before waiting for the next frame
     ++processed_;
-    if (r.status == TrackingStatus::Lost)
-      ++lost_;
-    else
-      ++tracked_;
+    // A frame skipped for a timestamp that did not increase is neither tracked nor lost
+    // (SlamSystem counts it).
+    if (!r.skipped) {
+      if (r.status == TrackingStatus::Lost)
+        ++lost_;
+      else
+        ++tracked_;
+      lastStatus_ = static_cast<int>(r.status);
+    }
     if (r.newKeyframe) ++keyframes_;
-    lastStatus_ = static_cast<int>(r.status);
+    if (frameLog_) frameLog_->add(r, grabbed, latencyMs, keyframes_);
     lastProcessed_ = Clock::now().time_since_epoch().count();
   }
   trackingDone_ = true;
@@ -116,7 +121,7 @@ LiveCounters LivePipeline::counters() const {
 
 std::vector<double> LivePipeline::latenciesMs() const {
   std::lock_guard lock(mutex_);
-  return latenciesMs_;
+  return {latenciesMs_.begin(), latenciesMs_.end()};
 }
 
 std::string LivePipeline::error() const {

@@ -6,12 +6,14 @@
 
 #include "FrameSource.h"
 #include "LatestFrameQueue.h"
+#include "LiveFrameLog.h"
 #include "RawlogRecorder.h"
 
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -21,6 +23,7 @@ namespace slamdunk::live {
 
 /// A consistent-enough picture of the counters (each one is exact; they are read one by one).
 struct LiveCounters {
+  /// processed = tracked + lost + frames skipped for a timestamp that did not increase
   size_t received = 0, processed = 0, dropped = 0, tracked = 0, lost = 0, keyframes = 0;
   TrackingStatus lastStatus = TrackingStatus::Lost;
   double activeSeconds = 0;  ///< from the first frame received to the last one processed
@@ -35,6 +38,8 @@ class LivePipeline {
   LivePipeline(const LivePipeline&) = delete;
   LivePipeline& operator=(const LivePipeline&) = delete;
 
+  /// Optional, before start(): one line per processed frame, written by the tracking thread.
+  void setFrameLog(LiveFrameLog* log) { frameLog_ = log; }
   void start();
   /// Waits until the source is open (true), it failed (throws its error), `timeoutSeconds`
   /// passed or `interrupted` became true (false).
@@ -59,6 +64,7 @@ class LivePipeline {
   FrameSource& source_;
   SlamSystem& slam_;
   RawlogRecorder* recorder_;
+  LiveFrameLog* frameLog_ = nullptr;
   const size_t maxFrames_;
   LatestFrameQueue queue_;
 
@@ -72,7 +78,7 @@ class LivePipeline {
   std::condition_variable openChanged_;
   OpenState openState_ = OpenState::Pending;
   std::string error_;
-  std::vector<double> latenciesMs_;
+  std::deque<double> latenciesMs_;  ///< grows by blocks for as long as the session runs
 
   std::thread grabber_, tracker_;
 };

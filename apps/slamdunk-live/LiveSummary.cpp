@@ -31,6 +31,8 @@ void printLiveSummary(const LiveFigures& f, bool json) {
         "\"optimizations\": %zu, \"loop_closures\": %zu,\n",
         c.tracked, c.lost, f.stats.trackedDepthOnly, f.stats.keyframes, f.stats.optimizations,
         f.stats.loopClosures);
+    std::printf("  \"relocalizations\": %zu, \"frames_out_of_order\": %zu, \"map_kib\": %.1f,\n",
+                f.stats.relocalizations, f.stats.framesOutOfOrder, f.mapMemory.total() / 1024.0);
     std::printf(
         "  \"fps_received\": %.2f, \"fps_processed\": %.2f, \"active_s\": %.3f, "
         "\"wall_s\": %.3f,\n",
@@ -60,11 +62,19 @@ void printLiveSummary(const LiveFigures& f, bool json) {
   std::printf("  tracking:      %zu tracked (%zu by depth alone), %zu lost\n", c.tracked,
               f.stats.trackedDepthOnly, c.lost);
   for (const auto& why : f.stats.lostReasons) std::printf("    lost because: %s\n", why.c_str());
+  if (f.stats.relocalizations > 0)
+    std::printf("    relocalized:  %zu times (found again in the whole map)\n",
+                f.stats.relocalizations);
+  if (f.stats.framesOutOfOrder > 0) {
+    std::printf("  skipped:       %zu frames whose timestamp did not increase\n",
+                f.stats.framesOutOfOrder);
+    for (const auto& why : f.stats.outOfOrderExamples) std::printf("    %s\n", why.c_str());
+  }
   std::printf(
       "  keyframes:     %zu, %zu local optimizations (ms median %.1f), %zu loop "
-      "closures\n",
+      "closures; map data %.1f KiB\n",
       f.stats.keyframes, f.stats.optimizations, median(f.stats.optimizationMs),
-      f.stats.loopClosures);
+      f.stats.loopClosures, f.mapMemory.total() / 1024.0);
   std::printf(
       "  speed:         %.1f frames/s received, %.1f processed over %.2f s; tracking "
       "%.1f ms/frame (median), %.1f (p95), %.1f (max)\n",

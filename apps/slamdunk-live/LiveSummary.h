@@ -18,6 +18,7 @@ struct LiveFigures {
   LiveCounters counters;
   SlamStatistics stats;
   std::vector<double> latenciesMs;  ///< per processed frame, grab to pose
+  GraphMemory mapMemory;            ///< the keyframe graph's data at the end, counted directly
   double wallSeconds = 0;           ///< whole run, opening the source included
   bool interrupted = false;
   std::string sourceError;

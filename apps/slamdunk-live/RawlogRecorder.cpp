@@ -4,7 +4,9 @@
 
 #include <opencv2/core.hpp>
 
+#include <filesystem>
 #include <stdexcept>
+#include <system_error>
 
 namespace slamdunk::live {
 
@@ -21,6 +23,7 @@ RawlogRecorder::~RawlogRecorder() { stopWriter(); }
 void RawlogRecorder::add(const mrpt::obs::CObservation3DRangeScan& frame) {
   {
     std::lock_guard lock(mutex_);
+    if (!error_.empty()) return;  // the recording failed: finish() reports it
     if (backlog_.size() >= maxBacklog_) {
       ++skipped_;
       return;
@@ -60,6 +63,11 @@ void RawlogRecorder::writerLoop() {
     if (!error.empty()) {
       error_ = error;
       backlog_.clear();
+      // A full disk: give its space back at once, or the partial recording would leave no room
+      // for the trajectory and map written when the session ends.
+      file_.close();
+      std::error_code ec;
+      std::filesystem::remove(output_.tempPath(), ec);
       return;
     }
     ++written_;
@@ -77,12 +85,14 @@ void RawlogRecorder::stopWriter() {
 
 void RawlogRecorder::finish() {
   stopWriter();
-  file_.close();
   {
     std::lock_guard lock(mutex_);
     if (!error_.empty())
       throw std::runtime_error("recording '" + output_.targetPath() + "' failed: " + error_);
   }
+  const uint64_t bytes = file_.getPosition();
+  file_.close();
+  requireCompleteGzip(output_.tempPath(), bytes, output_.targetPath());
   output_.commit();
 }
 

@@ -8,9 +8,10 @@
 
 namespace slamdunk::live {
 
-ReplayFrameSource::ReplayFrameSource(std::string rawlogPath, double speed)
-    : path_(std::move(rawlogPath)), speed_(speed) {
+ReplayFrameSource::ReplayFrameSource(std::string rawlogPath, double speed, int loops)
+    : path_(std::move(rawlogPath)), speed_(speed), loops_(loops) {
   if (!(speed_ > 0)) throw std::runtime_error("replay speed must be > 0");
+  if (loops_ < 0) throw std::runtime_error("replay loops must be >= 0 (0 = until stopped)");
 }
 
 void ReplayFrameSource::open() {
@@ -19,9 +20,32 @@ void ReplayFrameSource::open() {
   reader_ = std::make_unique<RawlogReader>(path_);
 }
 
+mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::nextScan() {
+  auto obs = reader_->next();
+  const bool lastLap = loops_ > 0 && lap_ + 1 >= loops_;
+  if (!obs && started_ && !lastLap) {
+    // The next lap follows this one by the mean frame interval of the recording.
+    const double firstLapSpan = lapLastStamp_ - firstStamp_;
+    const double interval = lapFrames_ > 1 ? firstLapSpan / (lapFrames_ - 1) : 1.0 / 30;
+    lapOffset_ += firstLapSpan + interval;
+    ++lap_;
+    lapFrames_ = 0;
+    reader_ = std::make_unique<RawlogReader>(path_);
+    obs = reader_->next();
+  }
+  if (!obs) return nullptr;
+  ++lapFrames_;
+  if (lap_ == 0) {
+    lapLastStamp_ = mrpt::Clock::toDouble(obs->timestamp);
+  } else {
+    obs->timestamp = mrpt::Clock::fromDouble(mrpt::Clock::toDouble(obs->timestamp) + lapOffset_);
+  }
+  return obs;
+}
+
 mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::next(const std::atomic<bool>& stop) {
   if (stop) return nullptr;
-  auto obs = reader_->next();
+  auto obs = nextScan();
   if (!obs) {
     if (reader_->entriesRead() > 0 && !started_)
       throw std::runtime_error("rawlog '" + path_ + "' has no CObservation3DRangeScan (" +
@@ -51,7 +75,10 @@ mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::next(const std::atomi
 std::string ReplayFrameSource::describe() const {
   char speed[32];
   std::snprintf(speed, sizeof(speed), "%g", speed_);
-  return "replay of '" + path_ + "' at " + speed + "x speed";
+  const std::string laps = loops_ == 0   ? ", looped until stopped"
+                           : loops_ == 1 ? ""
+                                         : ", " + std::to_string(loops_) + " laps";
+  return "replay of '" + path_ + "' at " + speed + "x speed" + laps;
 }
 
 }  // namespace slamdunk::live

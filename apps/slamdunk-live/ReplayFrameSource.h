@@ -1,6 +1,8 @@
 #pragma once
 // Plays a rawlog of CObservation3DRangeScan at the pace of its timestamps (times a speed
-// factor), so the live pipeline can be exercised and measured without a camera.
+// factor), so the live pipeline can be exercised and measured without a camera. It can play the
+// recording again and again (soak tests): each lap's timestamps are shifted to follow the last
+// lap's, one frame interval later, so time keeps increasing as from a camera.
 
 #include "FrameSource.h"
 
@@ -12,8 +14,9 @@ namespace slamdunk::live {
 
 class ReplayFrameSource : public FrameSource {
  public:
-  /// speed: 1 = real time, 2 = twice as fast, ...; must be > 0.
-  ReplayFrameSource(std::string rawlogPath, double speed);
+  /// speed: 1 = real time, 2 = twice as fast, ...; must be > 0. loops: laps to play, 0 = until
+  /// stopped.
+  ReplayFrameSource(std::string rawlogPath, double speed, int loops = 1);
 
   void open() override;
   mrpt::obs::CObservation3DRangeScan::Ptr next(const std::atomic<bool>& stop) override;
@@ -21,12 +24,21 @@ class ReplayFrameSource : public FrameSource {
 
  private:
   using Clock = std::chrono::steady_clock;
+  /// The next scan of the current lap, starting the next lap at the end of one; nullptr at the
+  /// end of the last lap.
+  mrpt::obs::CObservation3DRangeScan::Ptr nextScan();
+
   std::string path_;
   double speed_;
+  int loops_;
   std::unique_ptr<RawlogReader> reader_;
   bool started_ = false;
   Clock::time_point wallStart_;  ///< when the first frame was handed out
   double firstStamp_ = 0;        ///< its timestamp (s)
+  int lap_ = 0;                  ///< 0 = the first
+  size_t lapFrames_ = 0;         ///< scans read in the current lap
+  double lapLastStamp_ = 0;      ///< the last scan's own stamp in the first lap (s)
+  double lapOffset_ = 0;         ///< added to the stamps of the current lap (s)
 };
 
 }  // namespace slamdunk::live

@@ -4,12 +4,14 @@
 // stream, Ctrl-C or SIGTERM it finishes the pipeline and writes every output.
 
 #include "FrameSource.h"
+#include "LiveFrameLog.h"
 #include "LiveOptions.h"
 #include "LivePipeline.h"
 #include "LiveSummary.h"
 #include "RawlogRecorder.h"
 #include "StatusPrinter.h"
 
+#include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/slam/SlamSystem.h>
@@ -27,6 +29,7 @@
 #include <filesystem>
 #include <iostream>
 #include <thread>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
@@ -44,12 +47,23 @@ std::string keyframePathFor(const std::string& trajectoryPath) {
   return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
 }
 
-void requireOutputFolder(const std::string& path) {
-  if (path.empty()) return;
-  const fs::path dir = fs::path(path).parent_path();
-  if (!dir.empty() && !fs::is_directory(dir))
-    throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
-}
+/// A live session cannot be repeated: every output that can be written is (each atomically, so
+/// one that fails keeps its earlier version), and the failures are reported at the end.
+class OutputAttempts {
+ public:
+  template <class Write>
+  void attempt(const std::string& target, Write write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      failures_.push_back(writeErrorMessage(target, e.what()));
+    }
+  }
+  const std::vector<std::string>& failures() const { return failures_; }
+
+ private:
+  std::vector<std::string> failures_;
+};
 
 /// The grabber thread may be stuck inside a driver call that cannot be cancelled: leave
 /// without running destructors (the OS releases the device).
@@ -102,15 +116,21 @@ int main(int argc, char** argv) {
                                    false, 0, "N", cmd);
     TCLAP::ValueArg<std::string> argGt("g", "gt", "ground truth (TUM file): print ATE at the end",
                                        false, "", "GT.txt", cmd);
+    TCLAP::ValueArg<std::string> argFrameLog(
+        "", "frame-log",
+        "write one CSV line per processed frame (grab time, latency from grab to pose, "
+        "tracking ms, state, keyframes)",
+        false, "", "FRAMES.csv", cmd);
     TCLAP::SwitchArg argJson("", "json", "print the summary as JSON on stdout", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no status lines", cmd);
     if (const auto exitCode = parseCommandLine(cmd, argc, argv, "slamdunk-live")) return *exitCode;
 
     const auto wallStart = std::chrono::steady_clock::now();
     const LiveOptions options = LiveOptions::fromFile(argConfig.getValue());
-    for (const std::string& out : {argTraj.getValue(), argKf.getValue(), argMap.getValue(),
-                                   argRender.getValue(), argRecord.getValue()})
-      requireOutputFolder(out);
+    for (const std::string& out :
+         {argTraj.getValue(), argKf.getValue(), argMap.getValue(), argRender.getValue(),
+          argRecord.getValue(), argFrameLog.getValue()})
+      if (!out.empty()) requireWritableFolder(out);
 #ifndef SLAMDUNK_LIVE_WITH_MAPS
     if (argMap.isSet())
       throw std::runtime_error("--map: this build has no map module (slamdunk::maps)");
@@ -129,6 +149,8 @@ int main(int argc, char** argv) {
                                         overrides, options.frameTimeout);
     std::unique_ptr<RawlogRecorder> recorder;
     if (argRecord.isSet()) recorder = std::make_unique<RawlogRecorder>(argRecord.getValue());
+    std::unique_ptr<LiveFrameLog> frameLog;
+    if (argFrameLog.isSet()) frameLog = std::make_unique<LiveFrameLog>(argFrameLog.getValue());
 
     const bool quiet = argQuiet.getValue();
     if (!quiet) std::fprintf(stderr, "[slamdunk-live] source: %s\n", source->describe().c_str());
@@ -136,6 +158,7 @@ int main(int argc, char** argv) {
     SlamSystem slam(options.slam);
     auto pipeline = std::make_unique<LivePipeline>(*source, slam, options.queueCapacity,
                                                    recorder.get(), argMax.getValue());
+    pipeline->setFrameLog(frameLog.get());
     pipeline->start();
     if (!pipeline->waitUntilOpen(options.openTimeout, g_interrupted)) {
       if (g_interrupted) abandon("interrupted while opening the source", 130);
@@ -171,22 +194,34 @@ int main(int argc, char** argv) {
     if (!quiet) std::fprintf(stderr, "[slamdunk-live] finishing the optimization...\n");
     slam.finish();
     fig.stats = slam.statistics();
+    fig.mapMemory = slam.graph()->memory();
     const Trajectory traj = slam.trajectory();
     const std::string what = "slamdunk-live " + source->describe();
-    writeTumTrajectory(argTraj.getValue(), traj, what + ": every tracked frame");
-    writeTumTrajectory(argKf.isSet() ? argKf.getValue() : keyframePathFor(argTraj.getValue()),
-                       slam.keyframeTrajectory(), what + ": keyframes");
+    OutputAttempts outputs;
+    outputs.attempt(argTraj.getValue(), [&] {
+      writeTumTrajectory(argTraj.getValue(), traj, what + ": every tracked frame");
+    });
+    const std::string kfPath =
+        argKf.isSet() ? argKf.getValue() : keyframePathFor(argTraj.getValue());
+    outputs.attempt(kfPath, [&] {
+      writeTumTrajectory(kfPath, slam.keyframeTrajectory(), what + ": keyframes");
+    });
 #ifdef SLAMDUNK_LIVE_WITH_MAPS
-    if (argMap.isSet()) CKeyframeGraphMap(slam.graph()).saveToFile(argMap.getValue());
+    if (argMap.isSet())
+      outputs.attempt(argMap.getValue(),
+                      [&] { CKeyframeGraphMap(slam.graph()).saveToFile(argMap.getValue()); });
 #endif
     if (recorder) {
-      recorder->finish();
+      outputs.attempt(argRecord.getValue(), [&] { recorder->finish(); });
       fig.recorded = recorder->written();
       fig.recordSkipped = recorder->skipped();
     }
+    if (frameLog) outputs.attempt(argFrameLog.getValue(), [&] { frameLog->finish(); });
 #ifdef SLAMDUNK_LIVE_WITH_RENDER
     // Last: the picture is a convenience, the files above are the results.
-    if (argRender.isSet()) renderKeyframeGraph(*slam.graph(), traj, argRender.getValue());
+    if (argRender.isSet())
+      outputs.attempt(argRender.getValue(),
+                      [&] { renderKeyframeGraph(*slam.graph(), traj, argRender.getValue()); });
 #endif
     if (!groundTruth.empty() && traj.size() >= 3) {
       const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, traj);
@@ -198,12 +233,13 @@ int main(int argc, char** argv) {
     fig.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     printLiveSummary(fig, argJson.getValue());
-    if (!fig.sourceError.empty()) {
+    if (!fig.sourceError.empty())
       std::fprintf(stderr, "slamdunk-live: error: %s; the outputs cover the %zu frames before it\n",
                    fig.sourceError.c_str(), fig.counters.processed);
-      return 2;
-    }
-    return 0;
+    for (const std::string& failure : outputs.failures())
+      std::fprintf(stderr, "slamdunk-live: error: %s\n", failure.c_str());
+    if (!outputs.failures().empty()) return 1;
+    return fig.sourceError.empty() ? 0 : 2;
   } catch (const TCLAP::ArgException& e) {
     std::cerr << "slamdunk-live: " << e.error() << " (" << e.argId() << "); see --help\n";
   } catch (const std::exception& e) {

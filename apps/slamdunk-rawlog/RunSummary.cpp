@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <deque>
 #include <numeric>
 
 namespace slamdunk {
@@ -28,7 +29,7 @@ double perKeyframeKiB(const GraphMemory& m, size_t bytes) {
   return m.keyframes ? bytes / 1024.0 / m.keyframes : 0.0;
 }
 template <class F>
-std::vector<double> column(const std::vector<StageTimings>& t, F f) {
+std::vector<double> column(const std::deque<StageTimings>& t, F f) {
   std::vector<double> out;
   for (const auto& s : t) out.push_back(f(s));
   return out;
@@ -55,6 +56,8 @@ void printRunSummary(const RunFigures& f, bool json) {
         s.frames, s.tracked, s.lost, s.keyframes, s.trackedDepthOnly);
     std::printf("  \"edges\": %zu, \"optimizations\": %zu, \"loop_closures\": %zu,\n", f.edges,
                 s.optimizations, s.loopClosures);
+    std::printf("  \"relocalizations\": %zu, \"frames_out_of_order\": %zu,\n", s.relocalizations,
+                s.framesOutOfOrder);
     std::printf(
         "  \"ms_features_median\": %.3f, \"ms_pool_median\": %.3f, "
         "\"ms_matching_median\": %.3f, \"ms_ransac_median\": %.3f,\n",
@@ -109,6 +112,13 @@ void printRunSummary(const RunFigures& f, bool json) {
     std::printf("    by depth alone: %zu (the features did not register them)\n",
                 s.trackedDepthOnly);
   for (const auto& why : s.lostReasons) std::printf("    lost because:  %s\n", why.c_str());
+  if (s.relocalizations > 0)
+    std::printf("  relocalized:     %zu times (found again in the whole map)\n", s.relocalizations);
+  if (s.framesOutOfOrder > 0) {
+    std::printf("  skipped:         %zu frames whose timestamp did not increase\n",
+                s.framesOutOfOrder);
+    for (const auto& why : s.outOfOrderExamples) std::printf("    %s\n", why.c_str());
+  }
   std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
   std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
   std::printf("  loop closures:   %zu inferred\n", s.loopClosures);

@@ -35,44 +35,66 @@ void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r)
   const Eigen::Vector3d t = r.pose.translation();
   std::snprintf(buf, sizeof(buf),
                 "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%"
-                "zu,%d,%.3f,%d,",
-                index, r.timestamp, toString(r.status), r.features, r.matches, r.inliers, r.overlap,
-                r.newKeyframe ? 1 : 0, r.keyframeId, r.loopClosure ? 1 : 0, r.reference,
-                r.timings.features, r.timings.pool, r.timings.matching, r.timings.ransac,
-                r.timings.total, t.x(), t.y(), t.z(), r.poolSize, r.depthOnly ? 1 : 0,
-                r.timings.poolWait, r.overlapCells);
+                "zu,%d,%.3f,%d,%d,",
+                index, r.timestamp, r.skipped ? "skipped" : toString(r.status), r.features,
+                r.matches, r.inliers, r.overlap, r.newKeyframe ? 1 : 0, r.keyframeId,
+                r.loopClosure ? 1 : 0, r.reference, r.timings.features, r.timings.pool,
+                r.timings.matching, r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(),
+                r.poolSize, r.depthOnly ? 1 : 0, r.timings.poolWait, r.relocalized ? 1 : 0,
+                r.overlapCells);
   std::string reason = r.lostReason;
   for (char& c : reason)
     if (c == ',') c = ';';
   out << buf << reason << "\n";
 }
 
-/// The optional map products of a run, each written atomically by its module.
-void writeMapOutputs(const SlamSystem& slam, const Trajectory& traj, const std::string& mapPath,
-                     const std::string& densePrefix, const std::string& pngPath,
-                     const std::string& simpleMapPath, bool quiet) {
+/// Writes output `target` through `write(stagedPath)`; a failure names the target and why it may
+/// have failed (free space, file size limit).
+template <class Write>
+void writeStaged(const std::string& target, const std::string& staged, Write write) {
+  try {
+    write(staged);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(writeErrorMessage(target, e.what(), staged));
+  }
+}
+
+/// The optional map products of a run, staged with the other outputs.
+void writeMapOutputs(StagedOutputs& outputs, const SlamSystem& slam, const Trajectory& traj,
+                     const std::string& mapPath, const std::string& densePrefix,
+                     const std::string& pngPath, const std::string& simpleMapPath, bool quiet) {
   const KeyframeGraph& graph = *slam.graph();
   if (!mapPath.empty()) {
-    CKeyframeGraphMap(slam.graph()).saveToFile(mapPath);
-    if (!quiet) std::fprintf(stderr, "[slamdunk-rawlog] map written to %s\n", mapPath.c_str());
+    writeStaged(mapPath, outputs.stage(mapPath), [&](const std::string& staged) {
+      CKeyframeGraphMap(slam.graph()).saveToFile(staged);
+    });
   }
   if (!densePrefix.empty()) {
-    const auto d = writeDenseOutputs(graph, densePrefix);
-    if (!quiet)
-      std::fprintf(stderr,
-                   "[slamdunk-rawlog] dense cloud of %zu points and OctoMap (%zu "
-                   "occupied voxels) written to %s.{ply,pcd,ot,bt}\n",
-                   d.cloudPoints, d.occupancy.occupiedLeaves, densePrefix.c_str());
+    const std::string staged = outputs.stagePrefix(densePrefix, {".ply", ".pcd", ".ot", ".bt"});
+    writeStaged(densePrefix, staged, [&](const std::string&) {
+      const auto d = writeDenseOutputs(graph, staged);
+      if (!quiet)
+        std::fprintf(stderr,
+                     "[slamdunk-rawlog] dense cloud of %zu points and OctoMap (%zu "
+                     "occupied voxels) for %s.{ply,pcd,ot,bt}\n",
+                     d.cloudPoints, d.occupancy.occupiedLeaves, densePrefix.c_str());
+    });
   }
   if (!pngPath.empty()) {
     const fs::path png(pngPath);
     const std::string scene = (png.parent_path() / (png.stem().string() + ".3Dscene")).string();
-    renderKeyframeGraph(graph, traj, pngPath, scene);
-    if (!quiet)
-      std::fprintf(stderr, "[slamdunk-rawlog] picture %s, scene %s\n", pngPath.c_str(),
-                   scene.c_str());
+    const std::string stagedPng = outputs.stage(pngPath), stagedScene = outputs.stage(scene);
+    writeStaged(pngPath, stagedPng, [&](const std::string&) {
+      try {
+        renderKeyframeGraph(graph, traj, stagedPng, stagedScene);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(withTargetName(e.what(), stagedScene, scene));
+      }
+    });
   }
-  if (!simpleMapPath.empty()) exportSimpleMap(graph, simpleMapPath);
+  if (!simpleMapPath.empty())
+    writeStaged(simpleMapPath, outputs.stage(simpleMapPath),
+                [&](const std::string& staged) { exportSimpleMap(graph, staged); });
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -158,24 +180,28 @@ int main(int argc, char** argv) {
     // Fail on unwritable outputs before spending minutes on the run.
     for (const std::string& out :
          {argTraj.getValue(), argKf.getValue(), argSaveMap.getValue(), argDense.getValue(),
-          argRender.getValue(), argSimpleMap.getValue(), argFrameLog.getValue()}) {
-      if (out.empty()) continue;
-      const fs::path dir = fs::path(out).parent_path();
-      if (!dir.empty() && !fs::is_directory(dir))
-        throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
-    }
+          argRender.getValue(), argSimpleMap.getValue(), argFrameLog.getValue()})
+      if (!out.empty()) requireWritableFolder(out);
     const bool quiet = argQuiet.getValue();
     Trajectory groundTruth;
     if (argGt.isSet()) groundTruth = readTumTrajectory(argGt.getValue());
 
-    std::unique_ptr<AtomicOutput> frameLogOut;
+    // All outputs or none: each is written under a temporary name and they replace the user's
+    // files together at the end, so a run that fails on one of them (a full disk, say) leaves
+    // every earlier file as it was. A run can be repeated; its files should belong together.
+    StagedOutputs outputs;
     std::ofstream frameLog;
+    std::string frameLogStaged;
     if (argFrameLog.isSet()) {
-      frameLogOut = std::make_unique<AtomicOutput>(argFrameLog.getValue());
-      frameLog.open(frameLogOut->tempPath());
+      frameLogStaged = outputs.stage(argFrameLog.getValue());
+      frameLog.open(frameLogStaged);
+      if (!frameLog)
+        throw std::runtime_error(
+            writeErrorMessage(argFrameLog.getValue(), "cannot create it", frameLogStaged));
       frameLog << "index,timestamp,status,features,matches,inliers,overlap,new_keyframe,"
                   "keyframe_id,loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,"
-                  "ms_total,tx,ty,tz,pool_size,depth_only,ms_pool_wait,overlap_cells,lost_reason\n";
+                  "ms_total,tx,ty,tz,pool_size,depth_only,ms_pool_wait,relocalized,overlap_cells,"
+                  "lost_reason\n";
     }
     std::shared_ptr<KeyframeGraph> startMap;
     if (argLoadMap.isSet()) {
@@ -190,7 +216,7 @@ int main(int argc, char** argv) {
     SlamSystem slam(options, startMap);
     RunFigures fig;
     const auto start = std::chrono::steady_clock::now();
-    size_t index = 0;
+    size_t index = 0, skippedWarnings = 0;
     std::string readError;
     for (;;) {
       const auto t = std::chrono::steady_clock::now();
@@ -213,9 +239,15 @@ int main(int argc, char** argv) {
       if (frameLog.is_open()) writeFrameLogLine(frameLog, n - 1, r);
       if (fig.firstTrackedFrame < 0 && r.status != TrackingStatus::Lost)
         fig.firstTrackedFrame = static_cast<long>(n - 1);
-      if (!quiet && r.status == TrackingStatus::Lost)
+      if (r.skipped) {
+        // Warned about, a few times: a clock reset can put every later frame behind.
+        if (!quiet && ++skippedWarnings <= 10)
+          std::fprintf(stderr, "[slamdunk-rawlog] warning: %s%s\n", r.lostReason.c_str(),
+                       skippedWarnings == 10 ? " (further such warnings not shown)" : "");
+      } else if (!quiet && r.status == TrackingStatus::Lost) {
         std::fprintf(stderr, "frame %zu (t=%.6f): lost: %s\n", n - 1, r.timestamp,
                      r.lostReason.c_str());
+      }
       if (!quiet && n % 100 == 0)
         std::fprintf(stderr, "[slamdunk-rawlog] %zu frames, %zu keyframes, %.1f frames/s\n", n,
                      slam.graph()->keyframeCount(), n / (msSince(start) / 1000.0));
@@ -236,12 +268,17 @@ int main(int argc, char** argv) {
     fig.peakRssKiB = peakResidentKiB();
 
     const Trajectory traj = slam.trajectory();
-    writeTumTrajectory(argTraj.getValue(), traj,
-                       "slamdunk-rawlog " + argIn.getValue() + ": every tracked frame");
+    writeStaged(
+        argTraj.getValue(), outputs.stage(argTraj.getValue()), [&](const std::string& staged) {
+          writeTumTrajectory(staged, traj,
+                             "slamdunk-rawlog " + argIn.getValue() + ": every tracked frame");
+        });
     const std::string kfPath =
         argKf.isSet() ? argKf.getValue() : keyframePathFor(argTraj.getValue());
-    writeTumTrajectory(kfPath, slam.keyframeTrajectory(),
-                       "slamdunk-rawlog " + argIn.getValue() + ": keyframes");
+    writeStaged(kfPath, outputs.stage(kfPath), [&](const std::string& staged) {
+      writeTumTrajectory(staged, slam.keyframeTrajectory(),
+                         "slamdunk-rawlog " + argIn.getValue() + ": keyframes");
+    });
 
     if (!groundTruth.empty()) {
       if (traj.size() < 3) {
@@ -252,12 +289,20 @@ int main(int argc, char** argv) {
                              ev.ate.stats.max,  ev.pairs,          ev.unmatchedEstimatePoses};
       }
     }
-    if (frameLogOut) {
-      frameLog.close();
-      frameLogOut->commit();
+    if (frameLog.is_open()) {
+      frameLog.close();  // the last buffered lines may fail too
+      if (!frameLog)
+        throw std::runtime_error(
+            writeErrorMessage(argFrameLog.getValue(), "write error", frameLogStaged));
     }
-    writeMapOutputs(slam, traj, argSaveMap.getValue(), argDense.getValue(), argRender.getValue(),
-                    argSimpleMap.getValue(), quiet);
+    writeMapOutputs(outputs, slam, traj, argSaveMap.getValue(), argDense.getValue(),
+                    argRender.getValue(), argSimpleMap.getValue(), quiet);
+    outputs.commit();
+    if (!quiet && argSaveMap.isSet())
+      std::fprintf(stderr, "[slamdunk-rawlog] map written to %s\n", argSaveMap.getValue().c_str());
+    if (!quiet && argRender.isSet())
+      std::fprintf(stderr, "[slamdunk-rawlog] picture written to %s (and its .3Dscene)\n",
+                   argRender.getValue().c_str());
     printRunSummary(fig, argJson.getValue());
     if (!readError.empty()) {
       std::cerr << "slamdunk-rawlog: error: " << readError << "; the outputs cover the "

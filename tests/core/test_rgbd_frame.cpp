@@ -4,6 +4,7 @@
 #include "TestData.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/poses/CPose3D.h>
 #include <mrpt/system/datetime.h>
 
 #include <opencv2/core.hpp>
@@ -76,6 +77,46 @@ TEST(RgbdFrame, RejectsInconsistentObservations) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("16x12"), std::string::npos) << e.what();
   }
+}
+
+// Intrinsics of another resolution than the image (a 640x480 calibration on a 320x240 stream)
+// would put every point in the wrong place: a clear error naming both sizes, never a guess.
+TEST(RgbdFrame, RejectsIntrinsicsOfAnotherResolution) {
+  auto halfSize = makeObservation(64, 48);
+  halfSize->cameraParamsIntensity.ncols = 128;
+  halfSize->cameraParamsIntensity.nrows = 96;
+  try {
+    RgbdFrame::fromObservation(*halfSize);
+    FAIL() << "colour intrinsics of another resolution accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("at t=12.5"), std::string::npos) << what;
+    EXPECT_NE(what.find("colour image is 64x48"), std::string::npos) << what;
+    EXPECT_NE(what.find("cameraParamsIntensity) are for 128x96"), std::string::npos) << what;
+  }
+
+  // Depth registered to colour: the depth camera's intrinsics must fit the depth image too.
+  auto depthCamera = makeObservation(64, 48);
+  depthCamera->relativePoseIntensityWRTDepth =
+      mrpt::poses::CPose3D(0.025, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
+  depthCamera->cameraParams.ncols = 640;
+  depthCamera->cameraParams.nrows = 480;
+  try {
+    RgbdFrame::fromObservation(*depthCamera);
+    FAIL() << "depth intrinsics of another resolution accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("depth image is 64x48"), std::string::npos) << what;
+    EXPECT_NE(what.find("cameraParams) are for 640x480"), std::string::npos) << what;
+  }
+
+  // A resolution left unset by a driver is the image's.
+  auto unset = makeObservation(64, 48);
+  unset->cameraParamsIntensity.ncols = 0;
+  unset->cameraParamsIntensity.nrows = 0;
+  const RgbdFrame f = RgbdFrame::fromObservation(*unset);
+  EXPECT_EQ(f.intrinsics().width, 64);
+  EXPECT_EQ(f.intrinsics().height, 48);
 }
 
 TEST(RgbdFrame, ReadsMrptSampleRawlog) {

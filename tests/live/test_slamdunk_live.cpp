@@ -7,6 +7,7 @@
 #include <slamdunk/maps/CKeyframeGraphMap.h>
 #endif
 
+#include "EditedRawlog.h"
 #include "TestData.h"
 
 #include <gtest/gtest.h>
@@ -117,6 +118,45 @@ TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
   const Trajectory traj = readTumTrajectory(live.trajectory);
   EXPECT_GT(traj.size(), 100u);
   EXPECT_EQ(traj.size(), live.value("tracked"));
+}
+
+// Soak tests replay a recording again and again ([REPLAY] loops): each lap's timestamps follow
+// the last lap's by one frame interval, so time keeps increasing as from a camera, and the
+// trajectory stays a valid TUM file.
+TEST(SlamdunkLive, ReplayLoopsKeepTheTimestampsIncreasing) {
+  REQUIRE_RAWLOG(src, "synthetic_sweep");
+  const std::string dir = test::scratchDir("Live_Loops");
+  const std::string rawlog = dir + "/short.rawlog";
+  test::writeEditedRawlog(src, rawlog, 20, [](size_t, auto&) {});
+  const std::string frames = dir + "/frames.csv";
+  const LiveRun r = runLive(replayIni(dir, rawlog, "queue_capacity = 100", "loops = 3"), dir,
+                            "--speed 3 --frame-log " + q(frames));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  EXPECT_EQ(r.value("frames_received"), 60) << r.result.output;
+  EXPECT_EQ(r.value("frames_processed"), 60) << r.result.output;
+  EXPECT_EQ(r.value("frames_out_of_order"), 0) << r.result.output;
+  std::vector<double> stamps;
+  {
+    std::ifstream in(frames);
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) stamps.push_back(std::stod(line.substr(line.find(',') + 1)));
+  }
+  ASSERT_EQ(stamps.size(), 60u);
+  for (size_t i = 1; i < stamps.size(); ++i) EXPECT_GT(stamps[i], stamps[i - 1]) << "frame " << i;
+  EXPECT_NEAR(stamps[20] - stamps[19], 1 / 30.0, 1e-4);  // the next lap, one interval later
+  EXPECT_NEAR(stamps[40] - stamps[20], 20 / 30.0, 1e-4);
+  const Trajectory traj = readTumTrajectory(r.trajectory);
+  EXPECT_EQ(traj.size(), r.value("tracked"));
+
+  // 0 = until stopped (here by --max-frames); a negative count is an error naming the key.
+  const LiveRun endless = runLive(replayIni(dir, rawlog, "queue_capacity = 100", "loops = 0"), dir,
+                                  "--speed 3 --max-frames 45");
+  ASSERT_EQ(endless.result.exitCode, 0) << endless.result.output;
+  EXPECT_EQ(endless.value("frames_received"), 45) << endless.result.output;
+  const LiveRun bad = runLive(replayIni(dir, rawlog, "", "loops = -1"), dir);
+  EXPECT_EQ(bad.result.exitCode, 1) << bad.result.output;
+  EXPECT_NE(bad.result.output.find("loops must be >= 0"), std::string::npos) << bad.result.output;
 }
 
 // ------------------------------------------------------------------ interrupt

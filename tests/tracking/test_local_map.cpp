@@ -208,6 +208,28 @@ TEST(LocalMap, ShiftIsMeasuredFromTheWindowAskedForLast) {
   EXPECT_FALSE(map.shiftNeeded(at(0.35)));
 }
 
+// The pool keeps what the window's orientation sees (frustum filter): turning on the spot moves
+// the window too, past windowShiftAngle (7 degrees by default); 0 is the paper's test alone.
+TEST(LocalMap, TurningMovesTheWindowToo) {
+  auto graph = std::make_shared<KeyframeGraph>();
+  LocalMapOptions o = options(true, 3);
+  LocalMap map(o, graph);
+  map.beginFrame();
+  spawn(*graph, map, 0, 100, 0.0);
+  map.requestWindow(at(0.0), K);
+  auto turned = [](double deg) {
+    Pose p = at(0.0);
+    p.linear() = Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    return p;
+  };
+  EXPECT_FALSE(map.shiftNeeded(turned(6)));
+  EXPECT_TRUE(map.shiftNeeded(turned(8)));
+  o.windowShiftAngle = 0;
+  LocalMap paper(o, graph);
+  paper.requestWindow(at(0.0), K);
+  EXPECT_FALSE(paper.shiftNeeded(turned(90)));
+}
+
 TEST(LocalMap, SameRequestsGiveTheSamePool) {
   auto run = [] {
     auto graph = std::make_shared<KeyframeGraph>();

@@ -18,6 +18,28 @@
 
 namespace slamdunk {
 
+namespace {
+std::string sizeText(int width, int height) {
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+/// The intrinsics must describe the image they come with: fx, cx, ... of a 640x480 calibration
+/// applied to a 320x240 image put every point in the wrong place (garbage poses, not an error).
+/// A resolution left unset (0x0) by a driver is taken from the image.
+void matchResolution(CameraIntrinsics& K, const cv::Mat& image, const std::string& what,
+                     const char* field) {
+  if (K.width == image.cols && K.height == image.rows) return;
+  if (K.width == 0 && K.height == 0) {
+    K.width = image.cols;
+    K.height = image.rows;
+    return;
+  }
+  throw std::runtime_error(what + " is " + sizeText(image.cols, image.rows) +
+                           " but its intrinsics (" + field + ") are for " +
+                           sizeText(K.width, K.height));
+}
+}  // namespace
+
 RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
                      CameraIntrinsics intrinsics, cv::Mat colour)
     : timestamp_(timestamp),
@@ -60,11 +82,7 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
 
   CameraIntrinsics K = CameraIntrinsics::fromTCamera(obs.cameraParamsIntensity);
-  if (K.width != grey.cols || K.height != grey.rows) {
-    // Some drivers leave the resolution unset; the image itself is authoritative.
-    K.width = grey.cols;
-    K.height = grey.rows;
-  }
+  matchResolution(K, grey, what + ": colour image", "cameraParamsIntensity");
   if (const std::string bad = K.problem(); !bad.empty())
     throw std::runtime_error(what + " has invalid colour camera intrinsics: " + bad);
 
@@ -79,8 +97,7 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
     // MRPT's convention: the images are pixel-aligned only when the two cameras coincide;
     // otherwise (a raw Kinect, say) depth is registered to colour here.
     CameraIntrinsics depthK = CameraIntrinsics::fromTCamera(obs.cameraParams);
-    depthK.width = depth.cols;
-    depthK.height = depth.rows;
+    matchResolution(depthK, depth, what + ": depth image", "cameraParams");
     if (const std::string bad = depthK.problem(); !bad.empty())
       throw std::runtime_error(what + " has invalid depth camera intrinsics: " + bad);
     if (!isValidPose(fromCPose3D(obs.relativePoseIntensityWRTDepth)))

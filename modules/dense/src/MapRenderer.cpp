@@ -300,6 +300,7 @@ void MapRenderer::renderPng(const mrpt::opengl::COpenGLScene& scene,
   {
     std::ofstream f(out.tempPath(), std::ios::binary);
     f.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+    f.close();  // the last buffered bytes may fail too
     if (!f) throw std::runtime_error("cannot write '" + pngPath + "'");
   }
   out.commit();
@@ -312,7 +313,9 @@ void MapRenderer::saveScene(const mrpt::opengl::COpenGLScene& scene, const std::
     if (!f.open(out.tempPath())) throw std::runtime_error("cannot open for writing");
     auto archive = mrpt::serialization::archiveFrom(f);
     archive << scene;
+    const uint64_t bytes = f.getPosition();
     f.close();
+    requireCompleteGzip(out.tempPath(), bytes, path);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write scene '" + path + "': " + e.what());
   }

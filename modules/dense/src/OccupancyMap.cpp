@@ -102,8 +102,13 @@ OccupancyStatistics OccupancyMap::statistics() const {
 void OccupancyMap::writeColourTree(const std::string& path) const {
   impl_->sync();
   AtomicOutput out(path);
-  if (!impl_->tree.write(out.tempPath()))
+  // Through our own stream: OctoMap's write(filename) reports only a failed open, not a failed
+  // write (a full disk would leave a truncated .ot behind).
+  std::ofstream f(out.tempPath(), std::ios::binary);
+  if (!f || !impl_->tree.write(f))
     throw std::runtime_error("cannot write OctoMap file '" + path + "'");
+  f.close();
+  if (!f) throw std::runtime_error("cannot write OctoMap file '" + path + "'");
   out.commit();
 }
 

@@ -99,6 +99,11 @@ void writePly(const DenseCloud& cloud, const std::string& path, bool ascii) {
   pcl::PLYWriter writer;
   if (writer.write(out.tempPath(), *toPcl(cloud), !ascii, /*use_camera=*/false) != 0)
     throw std::runtime_error("cannot write PLY file '" + path + "'");
+  // PCL's PLY writer does not report a failed write (a full disk leaves a short file that it
+  // calls a success): read the file back, with PCL, before it may replace the user's.
+  PclCloud back;
+  if (pcl::io::loadPLYFile(out.tempPath(), back) < 0 || back.size() != cloud.size())
+    throw std::runtime_error("cannot write PLY file '" + path + "': it was not written completely");
   out.commit();
 }
 
@@ -107,8 +112,12 @@ void writePcd(const DenseCloud& cloud, const std::string& path, bool ascii) {
   AtomicOutput out(path);
   pcl::PCDWriter writer;
   const auto pcl = toPcl(cloud);
-  const int rc =
-      ascii ? writer.writeASCII(out.tempPath(), *pcl) : writer.writeBinary(out.tempPath(), *pcl);
+  int rc = -1;
+  try {
+    rc = ascii ? writer.writeASCII(out.tempPath(), *pcl) : writer.writeBinary(out.tempPath(), *pcl);
+  } catch (const std::exception& e) {  // PCL throws when it cannot reserve the file's space
+    throw std::runtime_error("cannot write PCD file '" + path + "': " + e.what());
+  }
   if (rc != 0) throw std::runtime_error("cannot write PCD file '" + path + "'");
   out.commit();
 }

@@ -592,7 +592,9 @@ void CKeyframeGraphMap::saveToFile(const std::string& path) const {
       throw std::runtime_error("cannot write map file '" + path + "'");
     auto out = mrpt::serialization::archiveFrom(f);
     out << *this;
+    const uint64_t bytes = f.getPosition();
     f.close();
+    requireCompleteGzip(atomic.tempPath(), bytes, path);
   }
   atomic.commit();
 }

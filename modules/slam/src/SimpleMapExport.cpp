@@ -98,7 +98,9 @@ void exportSimpleMap(const KeyframeGraph& graph, const std::string& path, int po
     if (!f.open(atomic.tempPath()))
       throw std::runtime_error("cannot write simple map '" + path + "'");
     mrpt::serialization::archiveFrom(f) << map;
+    const uint64_t bytes = f.getPosition();
     f.close();
+    requireCompleteGzip(atomic.tempPath(), bytes, path);
   }
   atomic.commit();
 }

@@ -3,6 +3,7 @@
 #include <mrpt/system/datetime.h>
 
 #include <algorithm>
+#include <cstdio>
 
 namespace slamdunk {
 
@@ -23,9 +24,36 @@ SlamSystem::~SlamSystem() {
   if (optimizerThread_.joinable()) optimizerThread_.join();
 }
 
+std::optional<TrackingResult> SlamSystem::outOfOrder(double timestamp) {
+  const size_t index = framesGiven_++;
+  // Stamps that repeat or go backwards (a driver glitch, a clock reset, recordings joined):
+  // such a frame would make the trajectory's stamps non-increasing (not a valid TUM file, and
+  // ambiguous for evaluation) and its motion model's time step zero or negative.
+  if (!lastProcessedTimestamp_ || timestamp > *lastProcessedTimestamp_) {
+    lastProcessedIndex_ = index;
+    lastProcessedTimestamp_ = timestamp;
+    return std::nullopt;
+  }
+  char why[200];
+  std::snprintf(why, sizeof why,
+                "frame %zu: timestamp %.6f is not after frame %zu's %.6f (repeated or going "
+                "backwards): skipped",
+                index, timestamp, lastProcessedIndex_, *lastProcessedTimestamp_);
+  TrackingResult r;
+  r.timestamp = timestamp;
+  r.status = TrackingStatus::Lost;
+  r.skipped = true;
+  r.lostReason = why;
+  std::lock_guard lock(statsMutex_);
+  ++stats_.framesOutOfOrder;
+  if (stats_.outOfOrderExamples.size() < 5) stats_.outOfOrderExamples.push_back(why);
+  return r;
+}
+
 TrackingResult SlamSystem::process(const mrpt::obs::CObservation3DRangeScan& obs) {
+  if (auto skipped = outOfOrder(mrpt::Clock::toDouble(obs.timestamp))) return *skipped;
   try {
-    return process(RgbdFrame::fromObservation(obs));
+    return track(RgbdFrame::fromObservation(obs));
   } catch (const std::exception& e) {
     TrackingResult r;
     r.timestamp = mrpt::Clock::toDouble(obs.timestamp);
@@ -43,6 +71,11 @@ TrackingResult SlamSystem::process(const mrpt::obs::CObservation3DRangeScan& obs
 }
 
 TrackingResult SlamSystem::process(const RgbdFrame& frame) {
+  if (auto skipped = outOfOrder(frame.timestamp())) return *skipped;
+  return track(frame);
+}
+
+TrackingResult SlamSystem::track(const RgbdFrame& frame) {
   TrackingResult r = tracker_.process(frame);
   frames_.push_back({r.timestamp, r.status, r.reference, r.poseInReference});
   {
@@ -59,6 +92,7 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
     } else {
       ++stats_.tracked;
       if (r.depthOnly) ++stats_.trackedDepthOnly;
+      if (r.relocalized) ++stats_.relocalizations;
     }
     if (r.newKeyframe) ++stats_.keyframes;
     if (r.loopClosure) ++stats_.loopClosures;

@@ -192,7 +192,9 @@ void LocalMap::workerLoop() {
 }
 
 bool LocalMap::shiftNeeded(const Pose& camera) const {
-  return translationDistance(camera, requestedCenter_) > options_.windowShift;
+  return translationDistance(camera, requestedCenter_) > options_.windowShift ||
+         (options_.windowShiftAngle > 0 &&
+          rotationDistance(camera, requestedCenter_) > options_.windowShiftAngle * M_PI / 180);
 }
 
 bool LocalMap::windowPending() const { return handedOverWindow_ < requestedWindow_; }

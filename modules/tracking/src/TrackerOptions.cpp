@@ -30,6 +30,7 @@ LocalMapOptions TrackerOptions::localMapOptions() const {
   LocalMapOptions o;
   o.windowSize = windowSize;
   o.windowShift = windowShift;
+  o.windowShiftAngle = windowShiftAngle;
   o.backgroundPreparation = poolInBackground;
   o.handoverFrames = poolHandoverFrames;
   o.handoverFeaturesPerFrame = poolHandoverFeaturesPerFrame;
@@ -42,6 +43,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   IniSectionReader r(cfg, section);
   windowSize = r.readDouble("window_size", windowSize);
   windowShift = r.readDouble("window_shift", windowShift);
+  windowShiftAngle = r.readDouble("window_shift_angle", windowShiftAngle);
   poolInBackground = r.readBool("pool_in_background", poolInBackground);
   poolHandoverFrames = r.readInt("pool_handover_frames", poolHandoverFrames);
   poolHandoverFeaturesPerFrame =
@@ -114,6 +116,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   };
   require(windowSize > 0, "window_size must be > 0");
   require(windowShift >= 0, "window_shift must be >= 0");
+  require(windowShiftAngle >= 0 && windowShiftAngle <= 180,
+          "window_shift_angle must be in [0, 180]");
   require(poolHandoverFrames >= 0, "pool_handover_frames must be >= 0");
   require(poolHandoverFeaturesPerFrame > 0, "pool_handover_features_per_frame must be > 0");
   require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
@@ -146,6 +150,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& s) const {
   cfg.write(s, "window_size", windowSize);
   cfg.write(s, "window_shift", windowShift);
+  cfg.write(s, "window_shift_angle", windowShiftAngle);
   cfg.write(s, "pool_in_background", poolInBackground);
   cfg.write(s, "pool_handover_frames", poolHandoverFrames);
   cfg.write(s, "pool_handover_features_per_frame", poolHandoverFeaturesPerFrame);

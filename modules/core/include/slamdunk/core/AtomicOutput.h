@@ -2,7 +2,10 @@
 // Writes an output file so the user's existing file is never lost to a failed run: everything
 // goes to a temporary file beside the target, renamed over it only by commit().
 
+#include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace slamdunk {
 
@@ -43,5 +46,57 @@ class AtomicOutputFolder {
   std::string temp_;
   bool committed_ = false;
 };
+
+/// The outputs of one run, replaced together. Each is written under a temporary name beside its
+/// target (stage()); commit() renames them all over their targets, and only once every one was
+/// written: a run that fails on its last output (a full disk, say) leaves every earlier file of
+/// the user's as it was. Whatever was staged and not committed is removed.
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  ~StagedOutputs();
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+
+  /// Registers `target` and returns where to write it now (same folder, hidden name).
+  std::string stage(const std::string& target);
+  /// For a writer that appends extensions to a prefix (PREFIX.ply, PREFIX.pcd, ...): registers
+  /// prefix + each extension and returns the staged prefix to hand to the writer.
+  std::string stagePrefix(const std::string& prefix, const std::vector<std::string>& extensions);
+  /// Renames every staged file over its target. Throws std::runtime_error naming a staged
+  /// output that is missing (never written) or cannot be renamed.
+  void commit();
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  ///< (target, staged)
+  bool committed_ = false;
+};
+
+/// Throws std::runtime_error unless the folder of `target` exists and this process may create
+/// files in it (a read-only mount, a folder without write permission): checked before a run
+/// that may take minutes rather than after it.
+void requireWritableFolder(const std::string& target);
+
+/// A gzip file ends with the length of its uncompressed data (mod 2^32). When the last write of
+/// a compressed output fails (a full disk), zlib's close reports it but MRPT's
+/// CFileGZOutputStream::close() does not: the file just ends early. Throws std::runtime_error
+/// naming `target` unless the gzip file at `path` ends with the length `uncompressedBytes`
+/// (CFileGZOutputStream::getPosition() before close()).
+void requireCompleteGzip(const std::string& path, uint64_t uncompressedBytes,
+                         const std::string& target);
+
+/// Why writing `target` may have failed, as far as can be told afterwards: the free space left
+/// on its filesystem, and the process's file size limit (ulimit -f) if it has one.
+std::string writeFailureHint(const std::string& target);
+
+/// `text` with every occurrence of the staged name replaced by the target's, so that messages
+/// name the files the user asked for.
+std::string withTargetName(std::string text, const std::string& staged, const std::string& target);
+
+/// The message for a failed write of `target`: "cannot write 'target': <why> (<hint>)", where
+/// the (hidden) name it was staged under, if given, reads as the target's, and the hint is
+/// writeFailureHint()'s. `why` may be an MRPT exception text (reduced to one line).
+std::string writeErrorMessage(const std::string& target, const std::string& why,
+                              const std::string& stagedAs = {});
 
 }  // namespace slamdunk

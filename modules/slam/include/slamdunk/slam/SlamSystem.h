@@ -11,8 +11,10 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
 #include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -30,9 +32,14 @@ struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
   size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
-  std::vector<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
-  std::vector<double> optimizationMs;      ///< one per local optimization
-  double maxOptimizationTranslation = 0;   ///< metres: largest pose change by any optimization
+  size_t relocalizations = 0;  ///< frames registered against the whole map after being lost
+  /// Frames not processed because their timestamp was not after the previous frame's (a
+  /// repeated or backward stamp), and the first few reasons, each naming the frame.
+  size_t framesOutOfOrder = 0;
+  std::vector<std::string> outOfOrderExamples;
+  std::deque<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
+  std::vector<double> optimizationMs;     ///< one per local optimization
+  double maxOptimizationTranslation = 0;  ///< metres: largest pose change by any optimization
   double maxOptimizationRotationDeg = 0;
   std::vector<std::string> lostReasons;  ///< distinct reasons, first occurrence order
   PoolPreparationStats poolPreparation;  ///< Local Mapping's background index builds
@@ -50,6 +57,9 @@ class SlamSystem {
 
   /// Builds the frame from the observation; a malformed observation (no depth, sizes that
   /// disagree, ...) is reported as a lost frame with the reason, never thrown.
+  /// A frame whose timestamp is not after the last processed frame's (repeated, or going
+  /// backwards) is skipped: result.skipped, status Lost, the reason naming both frames; it is
+  /// neither tracked nor counted lost, so the trajectory's stamps always increase.
   TrackingResult process(const mrpt::obs::CObservation3DRangeScan& obs);
   TrackingResult process(const RgbdFrame& frame);
 
@@ -59,12 +69,15 @@ class SlamSystem {
   /// Poses of all tracked frames (lost ones are left out), through their reference keyframe.
   Trajectory trajectory() const;
   Trajectory keyframeTrajectory() const;
-  const std::vector<FrameRecord>& frames() const { return frames_; }
+  const std::deque<FrameRecord>& frames() const { return frames_; }
   SlamStatistics statistics() const;
   const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
   const SlamOptions& options() const { return options_; }
 
  private:
+  /// The skip result for a frame whose timestamp does not increase, or nullopt.
+  std::optional<TrackingResult> outOfOrder(double timestamp);
+  TrackingResult track(const RgbdFrame& frame);
   void optimizeAround(KeyframeId root, const DepthNoiseModel& noise);
   /// The optimizer weighing the features with the tracker's current noise model.
   LocalOptimizer optimizerFor(const DepthNoiseModel& noise) const;
@@ -74,8 +87,14 @@ class SlamSystem {
   SlamOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
   Tracker tracker_;
-  std::vector<FrameRecord> frames_;
+  /// One record per frame, for as long as the session runs: a deque grows by small blocks, where
+  /// a vector would copy itself into one twice its size at every doubling (memory in steps, and
+  /// the old block kept by the allocator: the soak test's RSS measure saw both).
+  std::deque<FrameRecord> frames_;
   SlamStatistics stats_;
+  size_t framesGiven_ = 0;         ///< every call of process(), skipped frames included
+  size_t lastProcessedIndex_ = 0;  ///< of the last frame not skipped
+  std::optional<double> lastProcessedTimestamp_;
 
   mutable std::mutex statsMutex_;  // optimization figures are written by the optimizer thread
   std::mutex jobMutex_;

@@ -31,6 +31,13 @@ namespace slamdunk {
 struct LocalMapOptions {
   double windowSize = 5.0;    ///< W: side of the active window square, metres
   double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
+  /// ... or has turned this many degrees from the orientation the window was asked for (0 =
+  /// never, the paper's translation-only test). The pool's frustum filter keeps what that
+  /// orientation sees: a camera turning (or walking a mapped room again) without a keyframe to
+  /// move the window would see less and less of its pool and spawn keyframes where the map
+  /// already has them. At most the angle of the frustum's margin (0.1 of a 640-px image at
+  /// 525 px focal length: 7 degrees), so that what comes into view is still in the pool.
+  double windowShiftAngle = 7.0;
   /// Build pools on a worker thread (false: inside the tracking call, as in the paper).
   bool backgroundPreparation = true;
   /// Most frames between asking for a window's pool and using it (0 = as soon as it is ready).

@@ -46,6 +46,7 @@ struct TrackingResult {
   bool loopClosure = false;   ///< the new keyframe was promoted by the metric-loop test
   bool relocalized = false;   ///< registered against the whole map after being lost
   bool depthOnly = false;     ///< registered by depth alone (the features did not register)
+  bool skipped = false;       ///< not processed (SlamSystem): its timestamp did not increase
   KeyframeId keyframeId = 0;  ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;
   size_t poolSize = 0;  ///< features in the pool this frame was matched against

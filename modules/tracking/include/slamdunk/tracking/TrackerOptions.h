@@ -23,6 +23,8 @@ std::string toString(EdgeInformation e);
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
   double windowSize = 5.0;    ///< W: side of the active window square, metres
   double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
+  /// ... or has turned this many degrees from the window's orientation (0 = never; see LocalMap)
+  double windowShiftAngle = 7.0;
   /// Pools are prepared on a worker thread and handed over a fixed number of frames after
   /// they were asked for: one per `poolHandoverFeaturesPerFrame` features of the window, at
   /// most `poolHandoverFrames` (0: as soon as they are ready, never waiting; live). LocalMap.h.

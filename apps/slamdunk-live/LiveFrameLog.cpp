@@ -1,0 +1,31 @@
+#include "LiveFrameLog.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace slamdunk::live {
+
+LiveFrameLog::LiveFrameLog(const std::string& path) : output_(path), file_(output_.tempPath()) {
+  if (!file_) throw std::runtime_error("cannot create the frame log '" + path + "'");
+  file_ << "index,timestamp,status,grab_s,latency_ms,tracking_ms,keyframes,new_keyframe,"
+           "relocalized\n";
+}
+
+void LiveFrameLog::add(const TrackingResult& r, TimePoint grabbed, double latencyMs,
+                       size_t keyframes) {
+  if (!firstGrab_) firstGrab_ = grabbed;
+  const double grabSeconds = std::chrono::duration<double>(grabbed - *firstGrab_).count();
+  char line[256];
+  std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.3f,%.3f,%.3f,%zu,%d,%d\n", index_++, r.timestamp,
+                r.skipped ? "skipped" : toString(r.status), grabSeconds, latencyMs, r.timings.total,
+                keyframes, r.newKeyframe ? 1 : 0, r.relocalized ? 1 : 0);
+  file_ << line;
+}
+
+void LiveFrameLog::finish() {
+  file_.close();
+  if (!file_) throw std::runtime_error("write error on the frame log '" + output_.tempPath() + "'");
+  output_.commit();
+}
+
+}  // namespace slamdunk::live

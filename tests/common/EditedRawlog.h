@@ -1,0 +1,36 @@
+#pragma once
+// Damaged or re-timed copies of a prepared rawlog, for the tests of hostile input: each frame is
+// read, loaded (images embedded in the copy), passed through an edit, and written.
+
+#include <slamdunk/core/RawlogReader.h>
+
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <string>
+#include <type_traits>
+
+namespace slamdunk::test {
+
+/// The first `count` frames of `src`, each passed through edit(index, observation), written to
+/// `out`. An edit may return false to leave the frame out.
+template <class Edit>
+void writeEditedRawlog(const std::string& src, const std::string& out, size_t count, Edit edit) {
+  RawlogReader reader(src);
+  mrpt::io::CFileGZOutputStream f(out);
+  auto a = mrpt::serialization::archiveFrom(f);
+  for (size_t i = 0; i < count; ++i) {
+    auto obs = reader.next();
+    ASSERT_TRUE(obs) << src << " has fewer than " << count << " frames";
+    obs->load();
+    if constexpr (std::is_same_v<decltype(edit(i, *obs)), bool>) {
+      if (!edit(i, *obs)) continue;
+    } else {
+      edit(i, *obs);
+    }
+    a << *obs;
+  }
+}
+
+}  // namespace slamdunk::test
