@@ -14,7 +14,7 @@ packages=(
   liboctomap-dev
   libpcl-dev
   libgl1-mesa-dri libegl-mesa0 libegl1
-  xvfb x11-utils imagemagick  # MRPT viewers tested under a virtual X server
+  xvfb x11-utils imagemagick xdotool  # viewers tested under a virtual X server (xdotool: keys)
   python3
 )
 

@@ -77,6 +77,10 @@ long_runs=(
   # 5400 frames of a still camera, 630 and 800 frames round the loop through SLAM (27, 13 and
   # 15 s in Release); their code (tracking, relocalization) runs in the tests that stay.
   'HostileTracking\.'
+  # The whole synthetic loop through SLAM (12-13 s in Release each): checkpoints and resuming,
+  # and the viewer's scene of a loop closure. Under the sanitizers instead: checkpoints by time
+  # and after SIGKILL, the scene of a short run (LiveMapSceneSmall).
+  'Checkpoints\.EveryFewKeyframes' 'LiveMapScene\.ShowsTheMap'
 )
 subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
 if [ "${1:-}" = --all ]; then

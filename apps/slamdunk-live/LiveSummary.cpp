@@ -15,10 +15,12 @@ double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute
 double fps(size_t frames, double seconds) { return seconds > 0 ? frames / seconds : 0; }
 }  // namespace
 
-void printLiveSummary(const LiveFigures& f, bool json) {
+void printLiveSummary(const LiveFigures& fig, bool json) {
+  const LiveResult& f = fig.result;
   const LiveCounters& c = f.counters;
   std::vector<double> trackingMs;
   for (const auto& t : f.stats.stageTimings) trackingMs.push_back(t.total);
+  const std::optional<CheckpointFigures>& cp = f.checkpoints;
   if (json) {
     std::printf(
         "{\n  \"frames_received\": %zu, \"frames_processed\": %zu, \"frames_dropped\": "
@@ -37,24 +39,30 @@ void printLiveSummary(const LiveFigures& f, bool json) {
         "  \"fps_received\": %.2f, \"fps_processed\": %.2f, \"active_s\": %.3f, "
         "\"wall_s\": %.3f,\n",
         fps(c.received, c.activeSeconds), fps(c.processed, c.activeSeconds), c.activeSeconds,
-        f.wallSeconds);
+        fig.wallSeconds);
     std::printf(
         "  \"ms_tracking_median\": %.3f, \"ms_tracking_p95\": %.3f, \"ms_tracking_max\": %.3f, "
         "\"ms_optimization_median\": %.3f, \"interrupted\": %s",
         median(trackingMs), p95(trackingMs), maxOf(trackingMs), median(f.stats.optimizationMs),
-        f.interrupted ? "true" : "false");
+        f.stopRequested ? "true" : "false");
+    if (cp)
+      std::printf(
+          ",\n  \"checkpoints\": %zu, \"checkpoint_ms_median\": %.3f, \"checkpoint_ms_max\": "
+          "%.3f, \"checkpoint_snapshot_ms_median\": %.3f, \"checkpoint_snapshot_ms_max\": %.3f",
+          cp->written, median(cp->totalMs), maxOf(cp->totalMs), median(cp->snapshotMs),
+          maxOf(cp->snapshotMs));
     if (f.recorded)
       std::printf(",\n  \"recorded\": %zu, \"record_skipped\": %zu", *f.recorded,
                   f.recordSkipped.value_or(0));
-    if (f.ate)
+    if (fig.ate)
       std::printf(
           ",\n  \"ate_rmse_m\": %.6f, \"ate_mean_m\": %.6f, \"ate_median_m\": %.6f, "
           "\"ate_max_m\": %.6f, \"ate_pairs\": %zu",
-          f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+          fig.ate->rmse, fig.ate->mean, fig.ate->median, fig.ate->max, fig.ate->pairs);
     std::printf("\n}\n");
     return;
   }
-  std::printf("slamdunk-live summary%s\n", f.interrupted ? " (interrupted)" : "");
+  std::printf("slamdunk-live summary%s\n", f.stopRequested ? " (interrupted)" : "");
   std::printf("  frames:        %zu received, %zu processed, %zu dropped (tracker behind)\n",
               c.received, c.processed, c.dropped);
   std::printf("  latency:       grab to pose %.1f ms median, %.1f p95, %.1f max\n",
@@ -83,10 +91,16 @@ void printLiveSummary(const LiveFigures& f, bool json) {
   if (f.recorded)
     std::printf("  recorded:      %zu frames (%zu skipped: disk too slow)\n", *f.recorded,
                 f.recordSkipped.value_or(0));
-  if (f.ate)
+  if (cp && cp->written)
+    std::printf("  checkpoints:   %zu in %s (%.0f ms median, %.0f max; graph copy %.1f ms max)\n",
+                cp->written, cp->folder.c_str(), median(cp->totalMs), maxOf(cp->totalMs),
+                maxOf(cp->snapshotMs));
+  if (cp && !cp->error.empty()) std::printf("  checkpoint error: %s\n", cp->error.c_str());
+  if (fig.ate)
     std::printf("  ATE:           rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs)\n",
-                f.ate->rmse, f.ate->mean, f.ate->median, f.ate->max, f.ate->pairs);
+                fig.ate->rmse, fig.ate->mean, fig.ate->median, fig.ate->max, fig.ate->pairs);
   if (!f.sourceError.empty()) std::printf("  source error:  %s\n", f.sourceError.c_str());
+  if (!f.callbackError.empty()) std::printf("  error:         %s\n", f.callbackError.c_str());
 }
 
 }  // namespace slamdunk::live

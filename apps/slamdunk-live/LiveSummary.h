@@ -1,8 +1,8 @@
 #pragma once
-// The end-of-run report: what the source delivered, what the tracker kept up with, and the
-// accuracy against ground truth when given.
+// slamdunk-live's end-of-run report: what the source delivered, what the tracker kept up with,
+// the checkpoints, and the accuracy against ground truth when given.
 
-#include "LivePipeline.h"
+#include <slamdunk/live/LiveSlam.h>
 
 #include <optional>
 #include <string>
@@ -15,14 +15,8 @@ struct LiveAte {
 };
 
 struct LiveFigures {
-  LiveCounters counters;
-  SlamStatistics stats;
-  std::vector<double> latenciesMs;  ///< per processed frame, grab to pose
-  GraphMemory mapMemory;            ///< the keyframe graph's data at the end, counted directly
-  double wallSeconds = 0;           ///< whole run, opening the source included
-  bool interrupted = false;
-  std::string sourceError;
-  std::optional<size_t> recorded, recordSkipped;
+  LiveResult result;
+  double wallSeconds = 0;  ///< whole run, opening the source included
   std::optional<LiveAte> ate;
 };
 

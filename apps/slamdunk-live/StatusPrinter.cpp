@@ -23,4 +23,20 @@ void StatusPrinter::tick(const LiveCounters& now) {
   last_ = t;
 }
 
+void StatusPrinter::checkpoints(const std::optional<CheckpointFigures>& figures) {
+  if (!figures) return;
+  for (; checkpointsShown_ < figures->written; ++checkpointsShown_)
+    std::fprintf(stderr,
+                 "[slamdunk-live] %6.1f s | checkpoint %zu written in %.0f ms (graph copy %.1f "
+                 "ms): %s\n",
+                 std::chrono::duration<double>(Clock::now() - start_).count(),
+                 checkpointsShown_ + 1, figures->totalMs[checkpointsShown_],
+                 figures->snapshotMs[checkpointsShown_], figures->folder.c_str());
+  if (!figures->error.empty() && !checkpointErrorShown_) {
+    checkpointErrorShown_ = true;
+    std::fprintf(stderr, "[slamdunk-live] checkpoint failed (tracking goes on): %s\n",
+                 figures->error.c_str());
+  }
+}
+
 }  // namespace slamdunk::live

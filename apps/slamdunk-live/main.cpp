@@ -1,22 +1,18 @@
-// slamdunk-live: SlamDunk on a live RGB-D stream. Frames come from a camera (any MRPT
-// CGenericSensor, e.g. COpenNI2Sensor over OpenNI2) or from a rawlog replayed in real time;
-// grabbing, tracking and local optimization run in their own threads. On the end of the
-// stream, Ctrl-C or SIGTERM it finishes the pipeline and writes every output.
+// slamdunk-live: SlamDunk on a live RGB-D stream, a command line over slamdunk::live::LiveSlam
+// (modules/live: sources, threads, recording, checkpoints). Frames come from a camera (any MRPT
+// CGenericSensor, e.g. COpenNI2Sensor over OpenNI2) or from a rawlog replayed in real time. On
+// the end of the stream, Ctrl-C or SIGTERM it finishes the session and writes every output.
 
-#include "FrameSource.h"
-#include "LiveFrameLog.h"
-#include "LiveOptions.h"
-#include "LivePipeline.h"
 #include "LiveSummary.h"
-#include "RawlogRecorder.h"
 #include "StatusPrinter.h"
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
-#include <slamdunk/slam/SlamSystem.h>
-#ifdef SLAMDUNK_LIVE_WITH_MAPS
+#include <slamdunk/live/LiveSlam.h>
 #include <slamdunk/maps/CKeyframeGraphMap.h>
+#ifdef SLAMDUNK_WITH_VIEWER
+#include <slamdunk/viewer/LiveViewer.h>
 #endif
 #ifdef SLAMDUNK_LIVE_WITH_RENDER
 #include <slamdunk/dense/MapRenderer.h>
@@ -26,12 +22,9 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <thread>
-#include <vector>
 
-namespace fs = std::filesystem;
 using namespace slamdunk;
 using namespace slamdunk::live;
 
@@ -41,29 +34,6 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 extern "C" void onSignal(int) { g_interrupted = true; }
-
-std::string keyframePathFor(const std::string& trajectoryPath) {
-  const fs::path p(trajectoryPath);
-  return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
-}
-
-/// A live session cannot be repeated: every output that can be written is (each atomically, so
-/// one that fails keeps its earlier version), and the failures are reported at the end.
-class OutputAttempts {
- public:
-  template <class Write>
-  void attempt(const std::string& target, Write write) {
-    try {
-      write();
-    } catch (const std::exception& e) {
-      failures_.push_back(writeErrorMessage(target, e.what()));
-    }
-  }
-  const std::vector<std::string>& failures() const { return failures_; }
-
- private:
-  std::vector<std::string> failures_;
-};
 
 /// The grabber thread may be stuck inside a driver call that cannot be cancelled: leave
 /// without running destructors (the OS releases the device).
@@ -87,8 +57,11 @@ int main(int argc, char** argv) {
         "CGenericSensor, configured as in rawlog-grabber) or a rawlog replayed in real time. "
         "Grabbing, tracking and local optimization run concurrently; when tracking falls "
         "behind, the oldest waiting frame is dropped. Stop with Ctrl-C (or SIGTERM): the "
-        "pipeline is finished and every output written; exit code 0. See "
-        "config-ini/live-openni2.ini and config-ini/live-replay.ini.",
+        "pipeline is finished and every output written; exit code 0. Unless the INI turns them "
+        "off, checkpoints (trajectory and map so far) are written every few keyframes or "
+        "seconds to OUT_checkpoint/, so a killed session loses at most one interval; "
+        "--load-map OUT_checkpoint/map.map resumes it. See config-ini/live-openni2.ini and "
+        "config-ini/live-replay.ini.",
         ' ', "1.0");
     TCLAP::ValueArg<std::string> argConfig(
         "c", "config", "live INI ([slamdunk-live] + source section)", true, "", "LIVE.ini", cmd);
@@ -114,132 +87,149 @@ int main(int argc, char** argv) {
                                      false, 1.0, "X", cmd);
     TCLAP::ValueArg<size_t> argMax("", "max-frames", "stop after receiving N frames (0 = no limit)",
                                    false, 0, "N", cmd);
-    TCLAP::ValueArg<std::string> argGt("g", "gt", "ground truth (TUM file): print ATE at the end",
-                                       false, "", "GT.txt", cmd);
     TCLAP::ValueArg<std::string> argFrameLog(
         "", "frame-log",
-        "write one CSV line per processed frame (grab time, latency from grab to pose, "
-        "tracking ms, state, keyframes)",
+        "output CSV, one line per processed frame: grab time, latency from grab to pose, "
+        "tracking ms, state, keyframes",
         false, "", "FRAMES.csv", cmd);
+    TCLAP::ValueArg<std::string> argGt("g", "gt", "ground truth (TUM file): print ATE at the end",
+                                       false, "", "GT.txt", cmd);
+    TCLAP::ValueArg<std::string> argLoadMap(
+        "", "load-map",
+        "start from a saved map (a --map output or a checkpoint's map.map): the camera "
+        "relocalizes in it, then mapping continues (trajectory in the saved map's frame)",
+        false, "", "IN.map", cmd);
     TCLAP::SwitchArg argJson("", "json", "print the summary as JSON on stdout", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no status lines", cmd);
+    TCLAP::SwitchArg argGui("", "gui",
+                            "show the session in a 3D window (map, trajectory, camera, image "
+                            "with its features, status); drawn by its own thread, it never "
+                            "holds tracking back. q in the window closes it (the session goes on)",
+                            cmd);
+    TCLAP::SwitchArg argGuiWait("", "gui-wait",
+                                "with --gui: keep the window open after the session, until it "
+                                "is closed (or q is pressed in it)",
+                                cmd);
     if (const auto exitCode = parseCommandLine(cmd, argc, argv, "slamdunk-live")) return *exitCode;
 
     const auto wallStart = std::chrono::steady_clock::now();
-    const LiveOptions options = LiveOptions::fromFile(argConfig.getValue());
-    for (const std::string& out :
-         {argTraj.getValue(), argKf.getValue(), argMap.getValue(), argRender.getValue(),
-          argRecord.getValue(), argFrameLog.getValue()})
-      if (!out.empty()) requireWritableFolder(out);
-#ifndef SLAMDUNK_LIVE_WITH_MAPS
-    if (argMap.isSet())
-      throw std::runtime_error("--map: this build has no map module (slamdunk::maps)");
+    if (argGuiWait.getValue() && !argGui.getValue())
+      throw std::runtime_error("--gui-wait goes with --gui");
+#ifndef SLAMDUNK_WITH_VIEWER
+    if (argGui.getValue())
+      throw std::runtime_error("--gui: this build has no viewer (slamdunk::viewer needs X11)");
 #endif
 #ifndef SLAMDUNK_LIVE_WITH_RENDER
     if (argRender.isSet())
       throw std::runtime_error("--render: this build has no map renderer (slamdunk::dense)");
 #endif
+    if (argRender.isSet()) requireWritableFolder(argRender.getValue());
     Trajectory groundTruth;
     if (argGt.isSet()) groundTruth = readTumTrajectory(argGt.getValue());
+    const bool quiet = argQuiet.getValue();
 
+    LiveSession session;
+    session.trajectory = argTraj.getValue();
+    session.keyframes = argKf.getValue();
+    session.map = argMap.getValue();
+    session.recording = argRecord.getValue();
+    session.frameLog = argFrameLog.getValue();
+    session.maxFrames = argMax.getValue();
+    if (argLoadMap.isSet()) {
+      session.startMap = CKeyframeGraphMap::loadFromFile(argLoadMap.getValue())->graph();
+      if (!quiet)
+        std::fprintf(stderr, "[slamdunk-live] loaded map '%s': %zu keyframes, %zu edges\n",
+                     argLoadMap.getValue().c_str(), session.startMap->keyframeCount(),
+                     session.startMap->edgeCount());
+    }
     SourceOverrides overrides;
     if (argRawlog.isSet()) overrides.rawlog = argRawlog.getValue();
     if (argSpeed.isSet()) overrides.speed = argSpeed.getValue();
-    const auto source = makeFrameSource(*options.config, options.sourceSection, options.iniDir,
-                                        overrides, options.frameTimeout);
-    std::unique_ptr<RawlogRecorder> recorder;
-    if (argRecord.isSet()) recorder = std::make_unique<RawlogRecorder>(argRecord.getValue());
-    std::unique_ptr<LiveFrameLog> frameLog;
-    if (argFrameLog.isSet()) frameLog = std::make_unique<LiveFrameLog>(argFrameLog.getValue());
+    const auto live = LiveSlam::fromIniFile(argConfig.getValue(), session, overrides);
+    const LiveOptions& options = live->options();
+    if (!quiet) {
+      std::fprintf(stderr, "[slamdunk-live] source: %s\n", live->source().describe().c_str());
+      if (const std::string cp = live->checkpointFolder(); !cp.empty())
+        std::fprintf(stderr, "[slamdunk-live] checkpoints: %s\n", cp.c_str());
+    }
 
-    const bool quiet = argQuiet.getValue();
-    if (!quiet) std::fprintf(stderr, "[slamdunk-live] source: %s\n", source->describe().c_str());
-
-    SlamSystem slam(options.slam);
-    auto pipeline = std::make_unique<LivePipeline>(*source, slam, options.queueCapacity,
-                                                   recorder.get(), argMax.getValue());
-    pipeline->setFrameLog(frameLog.get());
-    pipeline->start();
-    if (!pipeline->waitUntilOpen(options.openTimeout, g_interrupted)) {
+#ifdef SLAMDUNK_WITH_VIEWER
+    // Shared with the tracking thread's callback, so it outlives the session in any case.
+    std::shared_ptr<viewer::LiveViewer> gui;
+    if (argGui.getValue()) {
+      viewer::ViewerOptions view;
+      view.title = "SlamDunk live - " + live->source().describe();
+      gui = std::make_shared<viewer::LiveViewer>(live->graph(), view);
+      LiveSlam& session = *live;
+      live->onFrame(
+          [gui, &session](const mrpt::obs::CObservation3DRangeScan& obs, const TrackingResult& r) {
+            gui->publish(obs, r, session.counters().dropped);
+          });
+    }
+#endif
+    live->start();
+    if (!live->waitUntilOpen(options.openTimeout, &g_interrupted)) {
       if (g_interrupted) abandon("interrupted while opening the source", 130);
       abandon("the source did not open within " + std::to_string(options.openTimeout) +
-                  " s ([slamdunk-live] open_timeout): " + source->describe(),
+                  " s ([slamdunk-live] open_timeout): " + live->source().describe(),
               1);
     }
     StatusPrinter status(quiet ? 0.0 : options.statusPeriod);
     bool stopping = false;
-    while (!pipeline->finished()) {
+    while (!live->finished()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       if (g_interrupted && !stopping) {
         stopping = true;
-        pipeline->requestStop();
+        live->requestStop();
         if (!quiet)
           std::fprintf(stderr, "[slamdunk-live] stopping: finishing the frames received...\n");
       }
-      status.tick(pipeline->counters());
+      status.tick(live->counters());
+      if (!quiet) status.checkpoints(live->checkpointFigures());
     }
-    pipeline->join();
-
-    LiveFigures fig;
-    fig.counters = pipeline->counters();
-    fig.sourceError = pipeline->error();
-    fig.latenciesMs = pipeline->latenciesMs();
-    fig.interrupted = stopping;
-    pipeline.reset();
-    if (fig.counters.processed == 0 && !fig.sourceError.empty())
-      throw std::runtime_error(fig.sourceError);
-    if (fig.counters.processed == 0 && !stopping)
-      throw std::runtime_error("the source delivered no RGB-D frame: " + source->describe());
-
     if (!quiet) std::fprintf(stderr, "[slamdunk-live] finishing the optimization...\n");
-    slam.finish();
-    fig.stats = slam.statistics();
-    fig.mapMemory = slam.graph()->memory();
-    const Trajectory traj = slam.trajectory();
-    const std::string what = "slamdunk-live " + source->describe();
-    OutputAttempts outputs;
-    outputs.attempt(argTraj.getValue(), [&] {
-      writeTumTrajectory(argTraj.getValue(), traj, what + ": every tracked frame");
-    });
-    const std::string kfPath =
-        argKf.isSet() ? argKf.getValue() : keyframePathFor(argTraj.getValue());
-    outputs.attempt(kfPath, [&] {
-      writeTumTrajectory(kfPath, slam.keyframeTrajectory(), what + ": keyframes");
-    });
-#ifdef SLAMDUNK_LIVE_WITH_MAPS
-    if (argMap.isSet())
-      outputs.attempt(argMap.getValue(),
-                      [&] { CKeyframeGraphMap(slam.graph()).saveToFile(argMap.getValue()); });
-#endif
-    if (recorder) {
-      outputs.attempt(argRecord.getValue(), [&] { recorder->finish(); });
-      fig.recorded = recorder->written();
-      fig.recordSkipped = recorder->skipped();
-    }
-    if (frameLog) outputs.attempt(argFrameLog.getValue(), [&] { frameLog->finish(); });
+    LiveFigures fig;
+    fig.result = live->finish();
+    LiveResult& result = fig.result;
 #ifdef SLAMDUNK_LIVE_WITH_RENDER
-    // Last: the picture is a convenience, the files above are the results.
-    if (argRender.isSet())
-      outputs.attempt(argRender.getValue(),
-                      [&] { renderKeyframeGraph(*slam.graph(), traj, argRender.getValue()); });
+    // Last: the picture is a convenience, the files above are the results. Like them, a
+    // failure is reported at the end and keeps the earlier picture.
+    if (argRender.isSet()) {
+      try {
+        renderKeyframeGraph(*result.graph, result.trajectory, argRender.getValue());
+      } catch (const std::exception& e) {
+        result.outputFailures.push_back(writeErrorMessage(argRender.getValue(), e.what()));
+      }
+    }
 #endif
-    if (!groundTruth.empty() && traj.size() >= 3) {
-      const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, traj);
+    if (!groundTruth.empty() && result.trajectory.size() >= 3) {
+      const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, result.trajectory);
       fig.ate = LiveAte{ev.ate.stats.rmse, ev.ate.stats.mean, ev.ate.stats.median, ev.ate.stats.max,
                         ev.pairs};
     } else if (!groundTruth.empty()) {
-      std::fprintf(stderr, "slamdunk-live: only %zu tracked frames: no ATE\n", traj.size());
+      std::fprintf(stderr, "slamdunk-live: only %zu tracked frames: no ATE\n",
+                   result.trajectory.size());
     }
     fig.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     printLiveSummary(fig, argJson.getValue());
-    if (!fig.sourceError.empty())
+#ifdef SLAMDUNK_WITH_VIEWER
+    if (gui && argGuiWait.getValue() && gui->isOpen()) {
+      gui->flush();
+      std::fprintf(stderr, "[slamdunk-live] close the viewer window (or press q in it) to exit\n");
+      gui->waitUntilClosed();
+    }
+#endif
+    if (result.checkpoints && !result.checkpoints->error.empty())
+      std::fprintf(stderr, "slamdunk-live: warning: a checkpoint failed: %s\n",
+                   result.checkpoints->error.c_str());
+    if (!result.sourceError.empty())
       std::fprintf(stderr, "slamdunk-live: error: %s; the outputs cover the %zu frames before it\n",
-                   fig.sourceError.c_str(), fig.counters.processed);
-    for (const std::string& failure : outputs.failures())
+                   result.sourceError.c_str(), result.counters.processed);
+    for (const std::string& failure : result.outputFailures)
       std::fprintf(stderr, "slamdunk-live: error: %s\n", failure.c_str());
-    if (!outputs.failures().empty()) return 1;
-    return fig.sourceError.empty() ? 0 : 2;
+    if (!result.outputFailures.empty()) return 1;
+    return result.sourceError.empty() ? 0 : 2;
   } catch (const TCLAP::ArgException& e) {
     std::cerr << "slamdunk-live: " << e.error() << " (" << e.argId() << "); see --help\n";
   } catch (const std::exception& e) {

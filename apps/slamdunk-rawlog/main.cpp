@@ -11,6 +11,9 @@
 #include <slamdunk/maps/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 #include <slamdunk/slam/SlamSystem.h>
+#ifdef SLAMDUNK_WITH_VIEWER
+#include <slamdunk/viewer/LiveViewer.h>
+#endif
 
 #include <slamdunk/core/CommandLine.h>
 
@@ -169,9 +172,26 @@ int main(int argc, char** argv) {
                               "local_optimization=false)",
                               cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
+    TCLAP::SwitchArg argGui(
+        "", "gui",
+        "show the run in a 3D window (map, trajectory, camera, image with its features, "
+        "status); keys in the window: space pauses and resumes, s or the right arrow "
+        "processes one frame, q closes the window (the run goes on). Results are the same "
+        "with and without it",
+        cmd);
+    TCLAP::SwitchArg argGuiWait("", "gui-wait",
+                                "with --gui: keep the window open after the run, until it is "
+                                "closed (or q is pressed in it)",
+                                cmd);
+    TCLAP::SwitchArg argGuiPaused("", "gui-paused",
+                                  "with --gui: start paused (space runs, s or the right arrow "
+                                  "processes one frame)",
+                                  cmd);
     if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "slamdunk-rawlog"))
       return *exitCode;
 
+    if ((argGuiWait.getValue() || argGuiPaused.getValue()) && !argGui.getValue())
+      throw std::runtime_error("--gui-wait and --gui-paused go with --gui");
     SlamOptions options;
     if (argConfig.isSet()) options = SlamOptions::fromFile(argConfig.getValue());
     if (argNoOpt.getValue()) options.localOptimization = false;
@@ -214,6 +234,20 @@ int main(int argc, char** argv) {
     // Decoded a few frames ahead on a thread of its own (deterministic: same frames, same order).
     PrefetchingRawlogReader reader(argIn.getValue());
     SlamSystem slam(options, startMap);
+#ifdef SLAMDUNK_WITH_VIEWER
+    std::unique_ptr<viewer::LiveViewer> gui;
+    if (argGui.getValue()) {
+      viewer::ViewerOptions view;
+      view.title = "SlamDunk - " + fs::path(argIn.getValue()).filename().string();
+      view.playbackKeys = true;
+      gui = std::make_unique<viewer::LiveViewer>(slam.graph(), view);
+      if (argGuiPaused.getValue()) gui->playback().togglePause();
+    }
+#else
+    if (argGui.getValue())
+      throw std::runtime_error("--gui: this build has no viewer (slamdunk::viewer needs X11)");
+#endif
+    double pausedSeconds = 0;  // waiting in the viewer's pause: not part of the run's speed
     RunFigures fig;
     const auto start = std::chrono::steady_clock::now();
     size_t index = 0, skippedWarnings = 0;
@@ -232,7 +266,19 @@ int main(int argc, char** argv) {
       if (!obs) break;
       if (index++ < argFirst.getValue()) continue;
       const double decodeMs = msSince(t);
+#ifdef SLAMDUNK_WITH_VIEWER
+      if (gui) {
+        const auto paused = std::chrono::steady_clock::now();
+        if (gui->playback().paused() && !quiet)
+          std::fprintf(stderr, "[slamdunk-rawlog] paused before frame %zu\n", fig.decodeMs.size());
+        gui->waitWhilePaused();
+        pausedSeconds += msSince(paused) / 1000.0;
+      }
+#endif
       const TrackingResult r = slam.process(*obs);
+#ifdef SLAMDUNK_WITH_VIEWER
+      if (gui) gui->publish(*obs, r);
+#endif
       obs->unload();
       fig.decodeMs.push_back(decodeMs);
       const size_t n = fig.decodeMs.size();
@@ -261,7 +307,10 @@ int main(int argc, char** argv) {
     if (fig.decodeMs.empty())
       throw std::runtime_error("rawlog '" + argIn.getValue() + "' is empty");
     slam.finish();
-    fig.wallSeconds = msSince(start) / 1000.0;
+    fig.wallSeconds = msSince(start) / 1000.0 - pausedSeconds;
+#ifdef SLAMDUNK_WITH_VIEWER
+    if (gui) gui->flush();  // the map after the last optimization
+#endif
     fig.stats = slam.statistics();
     fig.edges = slam.graph()->edgeCount();
     fig.mapMemory = slam.graph()->memory();
@@ -304,6 +353,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "[slamdunk-rawlog] picture written to %s (and its .3Dscene)\n",
                    argRender.getValue().c_str());
     printRunSummary(fig, argJson.getValue());
+#ifdef SLAMDUNK_WITH_VIEWER
+    if (gui && argGuiWait.getValue() && gui->isOpen()) {
+      std::fprintf(stderr,
+                   "[slamdunk-rawlog] close the viewer window (or press q in it) to exit\n");
+      gui->waitUntilClosed();
+    }
+#endif
     if (!readError.empty()) {
       std::cerr << "slamdunk-rawlog: error: " << readError << "; the outputs cover the "
                 << fig.decodeMs.size() << " frames before it\n";

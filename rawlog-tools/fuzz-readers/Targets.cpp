@@ -1,12 +1,12 @@
 #include "Targets.h"
 
-#include "../../apps/slamdunk-live/LiveOptions.h"
 #include "../tum2rawlog/TumToRawlog.h"
 
 #include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/core/TumSequence.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
+#include <slamdunk/live/LiveOptions.h>
 #include <slamdunk/maps/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SlamOptions.h>
 #include <slamdunk/slam/SlamSystem.h>

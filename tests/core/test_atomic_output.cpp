@@ -1,5 +1,6 @@
-// Outputs written so that nothing the user has is lost: staged outputs replaced together, the
-// writable-folder check, the gzip completeness check and the messages of failed writes.
+// Outputs written so that nothing the user has is lost: atomic files and folders, staged
+// outputs replaced together, the writable-folder check, the gzip completeness check and the
+// messages of failed writes.
 
 #include <slamdunk/core/AtomicOutput.h>
 
@@ -19,8 +20,8 @@ std::string readFile(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(f), {});
 }
-size_t fileCount(const std::string& dir) {
-  return std::distance(fs::directory_iterator(dir), fs::directory_iterator());
+size_t entries(const std::string& dir) {
+  return static_cast<size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 }  // namespace
 
@@ -40,7 +41,7 @@ TEST(StagedOutputs, ReplaceTheirTargetsTogetherOnlyOnCommit) {
   EXPECT_EQ(readFile(dir + "/a.txt"), "new a");
   EXPECT_EQ(readFile(dir + "/cloud.ply"), "ply");
   EXPECT_EQ(readFile(dir + "/cloud.pcd"), "pcd");
-  EXPECT_EQ(fileCount(dir), 3u);  // no staged file left
+  EXPECT_EQ(entries(dir), 3u);  // no staged file left
 }
 
 TEST(StagedOutputs, AFailedRunReplacesNothingAndLeavesNothing) {
@@ -60,7 +61,7 @@ TEST(StagedOutputs, AFailedRunReplacesNothingAndLeavesNothing) {
   }  // never committed: the staged files go
   EXPECT_EQ(readFile(dir + "/a.txt"), "old a");
   EXPECT_EQ(readFile(dir + "/b.txt"), "old b");
-  EXPECT_EQ(fileCount(dir), 2u);
+  EXPECT_EQ(entries(dir), 2u);
 }
 
 TEST(AtomicOutputChecks, WritableFolder) {
@@ -115,4 +116,43 @@ TEST(AtomicOutputChecks, WriteErrorMessageNamesTheTargetNotTheStagedFile) {
             std::string::npos)
       << m;
   EXPECT_NE(m.find("KiB free in '" + dir + "'"), std::string::npos) << m;
+}
+
+TEST(AtomicOutputFolder, ReplacesAnExistingFolderWhole) {
+  const std::string dir = test::scratchDir("AtomicOutputFolder_Replace");
+  const std::string target = dir + "/out";
+  fs::create_directories(target);
+  std::ofstream(target + "/old.txt") << "old";
+  {
+    AtomicOutputFolder out(target);
+    std::ofstream(out.tempPath() + "/new.txt") << "new";
+    EXPECT_TRUE(fs::exists(target + "/old.txt")) << "untouched until commit()";
+    out.commit();
+  }
+  EXPECT_TRUE(fs::exists(target + "/new.txt"));
+  EXPECT_FALSE(fs::exists(target + "/old.txt")) << "the old folder's files go with it";
+  EXPECT_EQ(entries(dir), 1u) << "no temporary folder left beside the target";
+}
+
+TEST(AtomicOutputFolder, WithoutCommitTheTargetStaysAndTheTemporaryGoes) {
+  const std::string dir = test::scratchDir("AtomicOutputFolder_NoCommit");
+  const std::string target = dir + "/out";
+  fs::create_directories(target);
+  std::ofstream(target + "/old.txt") << "old";
+  {
+    AtomicOutputFolder out(target);
+    std::ofstream(out.tempPath() + "/new.txt") << "new";
+  }
+  EXPECT_TRUE(fs::exists(target + "/old.txt"));
+  EXPECT_FALSE(fs::exists(target + "/new.txt"));
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicOutputFolder, CreatesANewFolder) {
+  const std::string dir = test::scratchDir("AtomicOutputFolder_New");
+  AtomicOutputFolder out(dir + "/fresh");
+  std::ofstream(out.tempPath() + "/a.txt") << "a";
+  out.commit();
+  EXPECT_TRUE(fs::exists(dir + "/fresh/a.txt"));
+  EXPECT_EQ(entries(dir), 1u);
 }

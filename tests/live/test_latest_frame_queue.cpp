@@ -1,7 +1,7 @@
 // The grabber-to-tracker hand-off: the oldest waiting frame is dropped and counted when full,
 // frames come out in order, close() lets the consumer drain and then stop.
 
-#include "LatestFrameQueue.h"
+#include <slamdunk/live/LatestFrameQueue.h>
 
 #include <gtest/gtest.h>
 #include <mrpt/system/datetime.h>

@@ -260,6 +260,25 @@ TEST(KeyframeGraphMap, RoundTripOfMapWithoutImagesAndEmptyMap) {
   EXPECT_TRUE(empty->isEmpty());
 }
 
+TEST(KeyframeGraphMap, StoredUncompressedForCheckpointsReadsBackTheSame) {
+  REQUIRE_SWEEP_GRAPH(graph);
+  const std::string dir = test::scratchDir("Maps_Stored");
+  const CKeyframeGraphMap map(graph);
+  map.saveToFile(dir + "/compressed.kfmap");
+  map.saveToFile(dir + "/stored.kfmap", 0);  // what live checkpoints write
+  EXPECT_GT(fs::file_size(dir + "/stored.kfmap"), fs::file_size(dir + "/compressed.kfmap"));
+  const auto a = CKeyframeGraphMap::loadFromFile(dir + "/compressed.kfmap");
+  const auto b = CKeyframeGraphMap::loadFromFile(dir + "/stored.kfmap");
+  ASSERT_EQ(a->graph()->ids(), b->graph()->ids());
+  EXPECT_EQ(a->graph()->edgeCount(), b->graph()->edgeCount());
+  for (KeyframeId id : a->graph()->ids()) {
+    EXPECT_TRUE(sameBits(a->graph()->pose(id).matrix(), b->graph()->pose(id).matrix()));
+    EXPECT_EQ(a->graph()->keyframe(id)->features.size(), b->graph()->keyframe(id)->features.size());
+  }
+  EXPECT_THROW(map.saveToFile(dir + "/bad.kfmap", 10), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir + "/bad.kfmap"));
+}
+
 TEST(KeyframeGraphMap, DepthIsExactWhetherQuantisedOrNot) {
   // Sensor-like depth (k millimetres, as RgbdFrame computes it) takes the 16-bit PNG path;
   // arbitrary floats (sub-unit values, NaN, negative zero) must fall back to raw bytes.

@@ -1,6 +1,8 @@
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/ErrorText.h>
 
+#include <fcntl.h>  // AT_FDCWD
+#include <stdio.h>  // renameat2, RENAME_EXCHANGE (glibc >= 2.28)
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -68,6 +70,15 @@ AtomicOutputFolder::~AtomicOutputFolder() {
 
 void AtomicOutputFolder::commit() {
   std::error_code ec;
+  // An existing folder is swapped with the new one in one step where the filesystem allows it
+  // (Linux renameat2, ext4/xfs/btrfs/tmpfs): a reader, or a process killed right here, finds
+  // the old folder or the new one, never none. Elsewhere: removed, then renamed.
+  if (fs::exists(target_, ec) &&
+      ::renameat2(AT_FDCWD, temp_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+    committed_ = true;
+    fs::remove_all(temp_, ec);  // now the old folder
+    return;
+  }
   fs::remove_all(target_, ec);
   fs::rename(temp_, target_, ec);
   if (ec) throw std::runtime_error("cannot write folder '" + target_ + "': " + ec.message());

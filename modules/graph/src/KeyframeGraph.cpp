@@ -184,4 +184,22 @@ std::vector<KeyframeEdge> KeyframeGraph::allEdges() const {
   return out;
 }
 
+std::vector<std::pair<KeyframeId, KeyframeId>> KeyframeGraph::edgeIds() const {
+  std::shared_lock lock(mutex_);
+  std::vector<std::pair<KeyframeId, KeyframeId>> out;
+  out.reserve(edges_.size());
+  for (const auto& kv : edges_) out.push_back(kv.first);
+  return out;
+}
+
+std::shared_ptr<KeyframeGraph> KeyframeGraph::snapshot() const {
+  auto copy = std::make_shared<KeyframeGraph>();
+  std::shared_lock lock(mutex_);
+  copy->keyframes_ = keyframes_;
+  copy->poses_ = poses_;
+  copy->edges_ = edges_;
+  copy->adjacency_ = adjacency_;
+  return copy;
+}
+
 }  // namespace slamdunk

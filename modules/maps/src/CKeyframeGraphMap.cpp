@@ -584,11 +584,16 @@ void CKeyframeGraphMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t
   pointsCache_.reset();
 }
 
-void CKeyframeGraphMap::saveToFile(const std::string& path) const {
+void CKeyframeGraphMap::saveToFile(const std::string& path) const { saveToFile(path, 1); }
+
+void CKeyframeGraphMap::saveToFile(const std::string& path, int compressionLevel) const {
+  if (compressionLevel < 0 || compressionLevel > 9)
+    throw std::invalid_argument("map compression level must be 0..9, not " +
+                                std::to_string(compressionLevel));
   AtomicOutput atomic(path);
   {
     mrpt::io::CFileGZOutputStream f;
-    if (!f.open(atomic.tempPath()))
+    if (!f.open(atomic.tempPath(), compressionLevel))
       throw std::runtime_error("cannot write map file '" + path + "'");
     auto out = mrpt::serialization::archiveFrom(f);
     out << *this;

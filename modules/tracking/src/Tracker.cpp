@@ -335,6 +335,13 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   }
   const RansacResult ransac = ransacAbsoluteOrientation(
       src, dst, options_.ransac, options_.weightedRefit ? &weights : nullptr);
+  // Which matches RANSAC kept, for display: a few hundred points, no cost worth measuring.
+  r.inlierPixels.clear();
+  r.rejectedPixels.clear();
+  for (size_t i = 0; i < matches.size(); ++i) {
+    const bool inlier = i < ransac.inliers.size() && ransac.inliers[i];
+    (inlier ? r.inlierPixels : r.rejectedPixels).push_back(features.keypoints[matches[i].query].pt);
+  }
   if (!ransac.success) {
     r.timings.ransac += msSince(t);
     r.lostReason = "only " + std::to_string(ransac.inlierCount) + " RANSAC inliers among " +

@@ -38,7 +38,8 @@ class AtomicOutputFolder {
   AtomicOutputFolder& operator=(const AtomicOutputFolder&) = delete;
 
   const std::string& tempPath() const { return temp_; }
-  /// Replaces the target folder (and everything in it) by the temporary one.
+  /// Replaces the target folder (and everything in it) by the temporary one; atomically where
+  /// the filesystem can swap two folders (Linux: ext4, xfs, btrfs, tmpfs).
   void commit();
 
  private:

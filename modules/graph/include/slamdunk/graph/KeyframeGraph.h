@@ -93,6 +93,11 @@ class KeyframeGraph {
   /// Copies of the edges whose both endpoints are in the set.
   std::vector<KeyframeEdge> edgesWithin(const std::map<KeyframeId, int>& vertices) const;
   std::vector<KeyframeEdge> allEdges() const;
+  /// The (i, j) pairs of all edges, i < j, without their matches: cheap, for display.
+  std::vector<std::pair<KeyframeId, KeyframeId>> edgeIds() const;
+  /// A copy of the whole graph taken under one lock, for a writer on another thread (live
+  /// checkpoints): keyframes are shared (they are immutable), poses and edges copied.
+  std::shared_ptr<KeyframeGraph> snapshot() const;
   GraphMemory memory() const;
 
  private:

@@ -49,6 +49,9 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
   /// Writes the map (gz-compressed MRPT serialization) atomically: an existing file is
   /// replaced only on success.
   void saveToFile(const std::string& path) const;
+  /// The same with a gzip level: 0 (stored, no compression: about 10x less CPU, files 1.5x
+  /// larger; live checkpoints use it) to 9. The one-argument form uses 1 (fastest compression).
+  void saveToFile(const std::string& path, int compressionLevel) const;
   /// Reads a map; throws std::runtime_error naming the file on a missing, corrupt or truncated
   /// file, or one written by a newer version of this class.
   static std::shared_ptr<CKeyframeGraphMap> loadFromFile(const std::string& path);

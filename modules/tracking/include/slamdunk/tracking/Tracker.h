@@ -18,6 +18,8 @@
 #include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
+#include <opencv2/core/types.hpp>
+
 #include <atomic>
 #include <map>
 #include <memory>
@@ -53,6 +55,9 @@ struct TrackingResult {
   double overlap = 0;
   int overlapCells = 0;  ///< grid cells the overlap counted (those where the frame has features)
   std::vector<KeyframeId> matchedKeyframes;
+  /// For display (the live viewer): image pixels of the frame's pool matches that RANSAC kept
+  /// as inliers and of those it rejected, from the last registration tried; empty when none.
+  std::vector<cv::Point2f> inlierPixels, rejectedPixels;
   std::string lostReason;
   StageTimings timings;
 };

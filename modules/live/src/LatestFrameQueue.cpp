@@ -1,4 +1,4 @@
-#include "LatestFrameQueue.h"
+#include <slamdunk/live/LatestFrameQueue.h>
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "RawlogRecorder.h"
+#include <slamdunk/live/RawlogRecorder.h>
 
 #include <mrpt/serialization/CArchive.h>
 

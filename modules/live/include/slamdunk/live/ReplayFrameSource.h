@@ -4,7 +4,7 @@
 // recording again and again (soak tests): each lap's timestamps are shifted to follow the last
 // lap's, one frame interval later, so time keeps increasing as from a camera.
 
-#include "FrameSource.h"
+#include <slamdunk/live/FrameSource.h>
 
 #include <slamdunk/core/RawlogReader.h>
 

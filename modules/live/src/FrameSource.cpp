@@ -1,7 +1,7 @@
-#include "FrameSource.h"
+#include <slamdunk/live/FrameSource.h>
 
-#include "ReplayFrameSource.h"
-#include "SensorFrameSource.h"
+#include <slamdunk/live/ReplayFrameSource.h>
+#include <slamdunk/live/SensorFrameSource.h>
 
 #include <slamdunk/core/IniOptions.h>
 

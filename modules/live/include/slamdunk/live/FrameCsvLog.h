@@ -1,5 +1,5 @@
 #pragma once
-// One CSV line per processed frame (--frame-log): when it was grabbed, its latency from grab to
+// One CSV line per processed frame (LiveSession::frameLog, slamdunk-live --frame-log): when it was grabbed, its latency from grab to
 // pose, the tracking time, the tracking state and the keyframe count. Long sessions (soak tests)
 // read memory and latency trends from it. Streamed to a temporary file by the tracking thread
 // and renamed over the target by finish(), like every other output.
@@ -13,12 +13,12 @@
 
 namespace slamdunk::live {
 
-class LiveFrameLog {
+class FrameCsvLog {
  public:
   using TimePoint = std::chrono::steady_clock::time_point;
 
   /// Opens the temporary file; throws std::runtime_error if it cannot be created.
-  explicit LiveFrameLog(const std::string& path);
+  explicit FrameCsvLog(const std::string& path);
 
   /// From the tracking thread, once per processed frame.
   void add(const TrackingResult& r, TimePoint grabbed, double latencyMs, size_t keyframes);

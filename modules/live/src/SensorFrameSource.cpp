@@ -1,4 +1,4 @@
-#include "SensorFrameSource.h"
+#include <slamdunk/live/SensorFrameSource.h>
 
 #include "StdoutToStderr.h"
 
@@ -56,6 +56,16 @@ SensorFrameSource::SensorFrameSource(const mrpt::config::CConfigFileBase& cfg, s
   }
 }
 
+SensorFrameSource::SensorFrameSource(mrpt::hwdrivers::CGenericSensor::Ptr sensor, bool initialized,
+                                     double frameTimeoutSeconds)
+    : frameTimeout_(frameTimeoutSeconds), initialized_(initialized), sensor_(std::move(sensor)) {
+  if (!sensor_) throw std::invalid_argument("SensorFrameSource: no sensor given");
+  if (!(frameTimeout_ > 0)) throw std::invalid_argument("SensorFrameSource: frame timeout <= 0");
+  ownedByApplication_ = true;
+  driver_ = sensor_->GetRuntimeClass()->className;
+  section_ = sensor_->getSensorLabel();
+}
+
 SensorFrameSource::~SensorFrameSource() {
   // MRPT 2.5.8's ~COpenNI2Sensor() throws "No OpenNI2 devices found" when no device was opened,
   // which terminates the process: such a driver is never destroyed. It stays reachable from a
@@ -67,7 +77,7 @@ SensorFrameSource::~SensorFrameSource() {
 }
 
 void SensorFrameSource::open() {
-  {
+  if (!initialized_) {
     StdoutToStderr quiet;
     try {
       sensor_->initialize();
@@ -141,7 +151,10 @@ mrpt::obs::CObservation3DRangeScan::Ptr SensorFrameSource::next(const std::atomi
 std::string SensorFrameSource::describe() const {
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%g", sensor_->getProcessRate());
-  return driver_ + " from section [" + section_ + "], polled at " + rate + " Hz";
+  return driver_ +
+         (ownedByApplication_ ? " '" + section_ + "' (the application's sensor)"
+                              : " from section [" + section_ + "]") +
+         ", polled at " + rate + " Hz";
 }
 
 }  // namespace slamdunk::live

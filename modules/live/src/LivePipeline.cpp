@@ -1,13 +1,14 @@
-#include "LivePipeline.h"
+#include <slamdunk/live/LivePipeline.h>
 
 namespace slamdunk::live {
 
 LivePipeline::LivePipeline(FrameSource& source, SlamSystem& slam, size_t queueCapacity,
-                           RawlogRecorder* recorder, size_t maxFrames)
+                           RawlogRecorder* recorder, size_t maxFrames, FrameHook hook)
     : source_(source),
       slam_(slam),
       recorder_(recorder),
       maxFrames_(maxFrames),
+      hook_(std::move(hook)),
       queue_(queueCapacity) {}
 
 LivePipeline::~LivePipeline() {
@@ -86,6 +87,7 @@ void LivePipeline::trackingLoop() {
       std::lock_guard lock(mutex_);
       latenciesMs_.push_back(latencyMs);
     }
+    if (hook_) hook_(*frame, r, latencyMs);
     frame.reset();  // free the images before waiting for the next frame
     ++processed_;
     // A frame skipped for a timestamp that did not increase is neither tracked nor lost
@@ -98,7 +100,6 @@ void LivePipeline::trackingLoop() {
       lastStatus_ = static_cast<int>(r.status);
     }
     if (r.newKeyframe) ++keyframes_;
-    if (frameLog_) frameLog_->add(r, grabbed, latencyMs, keyframes_);
     lastProcessed_ = Clock::now().time_since_epoch().count();
   }
   trackingDone_ = true;

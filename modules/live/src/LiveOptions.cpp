@@ -1,4 +1,4 @@
-#include "LiveOptions.h"
+#include <slamdunk/live/LiveOptions.h>
 
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
@@ -9,6 +9,12 @@
 namespace fs = std::filesystem;
 
 namespace slamdunk::live {
+
+SlamOptions LiveOptions::liveSlamDefaults(SlamOptions base) {
+  base.optimizerThread = true;
+  base.tracker.poolHandoverFrames = 0;
+  return base;
+}
 
 LiveOptions LiveOptions::fromFile(const std::string& path) {
   if (!fs::is_regular_file(path))
@@ -28,6 +34,10 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     o.statusPeriod = r.readDouble("status_period", o.statusPeriod);
     o.openTimeout = r.readDouble("open_timeout", o.openTimeout);
     o.frameTimeout = r.readDouble("frame_timeout", o.frameTimeout);
+    const int everyKeyframes =
+        r.readInt("checkpoint_every_keyframes", static_cast<int>(o.checkpoint.everyKeyframes));
+    o.checkpoint.everySeconds = r.readDouble("checkpoint_every_seconds", o.checkpoint.everySeconds);
+    o.checkpoint.folder = r.readString("checkpoint_folder", "");
     r.rejectUnknownKeys();
     if (o.sourceSection.empty())
       throw std::runtime_error(std::string("[") + kSection +
@@ -37,18 +47,23 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     if (o.openTimeout <= 0 || o.frameTimeout <= 0)
       throw std::runtime_error(std::string("[") + kSection + "] timeouts must be > 0");
     o.queueCapacity = static_cast<size_t>(capacity);
+    if (everyKeyframes < 0 || !(o.checkpoint.everySeconds >= 0))
+      throw std::runtime_error(std::string("[") + kSection +
+                               "] checkpoint_every_keyframes and checkpoint_every_seconds must "
+                               "be >= 0 (0 = off)");
+    o.checkpoint.everyKeyframes = static_cast<size_t>(everyKeyframes);
+    if (!o.checkpoint.folder.empty() && fs::path(o.checkpoint.folder).is_relative())
+      o.checkpoint.folder = (fs::path(o.iniDir) / o.checkpoint.folder).string();
 
     if (!pipeline.empty()) {
       const fs::path p(pipeline);
       o.pipelineConfig = p.is_relative() ? (fs::path(o.iniDir) / p).string() : pipeline;
       o.slam = SlamOptions::fromFile(o.pipelineConfig);
     }
-    // Live: tracking must never wait for the local optimization. Set after the pipeline file
-    // (whose default says false, for offline runs) and before the overrides, so an explicit
-    // [pipeline.slam] optimizer_thread = false still wins.
-    o.slam.optimizerThread = true;
-    // Nor for a feature pool: each is handed over as soon as it is ready.
-    o.slam.tracker.poolHandoverFrames = 0;
+    // Live: tracking must never wait for the local optimization nor for a feature pool. Set
+    // after the pipeline file (whose defaults are for offline runs) and before the overrides,
+    // so an explicit [pipeline.slam] optimizer_thread = false still wins.
+    o.slam = liveSlamDefaults(o.slam);
     o.slam.loadFromConfigFile(*o.config, kPipelinePrefix);
   } catch (const std::exception& e) {
     throw std::runtime_error("configuration file '" + path + "': " + summarizeError(e.what()));

@@ -1,19 +1,20 @@
 #pragma once
 // The live threads: the grabber (opens the source, receives frames, optionally records them,
-// hands them over latest-wins) and the tracker (SlamSystem::process on each frame). The local
-// optimization runs in SlamSystem's own thread, so tracking never waits for it. The caller's
-// thread stays free for status output and signal handling.
+// hands them over latest-wins) and the tracker (SlamSystem::process on each frame, then the
+// frame hook). The local optimization runs in SlamSystem's own thread, so tracking never waits
+// for it. The caller's thread stays free for status output and signal handling. LiveSlam
+// wires this to its outputs; use LiveSlam unless you need the threads alone.
 
-#include "FrameSource.h"
-#include "LatestFrameQueue.h"
-#include "LiveFrameLog.h"
-#include "RawlogRecorder.h"
+#include <slamdunk/live/FrameSource.h>
+#include <slamdunk/live/LatestFrameQueue.h>
+#include <slamdunk/live/RawlogRecorder.h>
 
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <atomic>
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -31,15 +32,18 @@ struct LiveCounters {
 
 class LivePipeline {
  public:
-  /// recorder may be null; maxFrames = 0: no limit.
+  /// Called on the tracking thread after each frame, with the frame, its result and its
+  /// latency from grab to pose in ms. The next frame waits for it: keep it short.
+  using FrameHook = std::function<void(const mrpt::obs::CObservation3DRangeScan&,
+                                       const TrackingResult&, double latencyMs)>;
+
+  /// recorder may be null; maxFrames = 0: no limit; hook may be empty.
   LivePipeline(FrameSource& source, SlamSystem& slam, size_t queueCapacity,
-               RawlogRecorder* recorder, size_t maxFrames);
+               RawlogRecorder* recorder, size_t maxFrames, FrameHook hook = {});
   ~LivePipeline();  ///< stops and joins
   LivePipeline(const LivePipeline&) = delete;
   LivePipeline& operator=(const LivePipeline&) = delete;
 
-  /// Optional, before start(): one line per processed frame, written by the tracking thread.
-  void setFrameLog(LiveFrameLog* log) { frameLog_ = log; }
   void start();
   /// Waits until the source is open (true), it failed (throws its error), `timeoutSeconds`
   /// passed or `interrupted` became true (false).
@@ -64,8 +68,8 @@ class LivePipeline {
   FrameSource& source_;
   SlamSystem& slam_;
   RawlogRecorder* recorder_;
-  LiveFrameLog* frameLog_ = nullptr;
   const size_t maxFrames_;
+  FrameHook hook_;
   LatestFrameQueue queue_;
 
   std::atomic<bool> stop_{false}, trackingDone_{false};

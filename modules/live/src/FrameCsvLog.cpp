@@ -1,17 +1,17 @@
-#include "LiveFrameLog.h"
+#include <slamdunk/live/FrameCsvLog.h>
 
 #include <cstdio>
 #include <stdexcept>
 
 namespace slamdunk::live {
 
-LiveFrameLog::LiveFrameLog(const std::string& path) : output_(path), file_(output_.tempPath()) {
+FrameCsvLog::FrameCsvLog(const std::string& path) : output_(path), file_(output_.tempPath()) {
   if (!file_) throw std::runtime_error("cannot create the frame log '" + path + "'");
   file_ << "index,timestamp,status,grab_s,latency_ms,tracking_ms,keyframes,new_keyframe,"
            "relocalized\n";
 }
 
-void LiveFrameLog::add(const TrackingResult& r, TimePoint grabbed, double latencyMs,
+void FrameCsvLog::add(const TrackingResult& r, TimePoint grabbed, double latencyMs,
                        size_t keyframes) {
   if (!firstGrab_) firstGrab_ = grabbed;
   const double grabSeconds = std::chrono::duration<double>(grabbed - *firstGrab_).count();
@@ -22,7 +22,7 @@ void LiveFrameLog::add(const TrackingResult& r, TimePoint grabbed, double latenc
   file_ << line;
 }
 
-void LiveFrameLog::finish() {
+void FrameCsvLog::finish() {
   file_.close();
   if (!file_) throw std::runtime_error("write error on the frame log '" + output_.tempPath() + "'");
   output_.commit();

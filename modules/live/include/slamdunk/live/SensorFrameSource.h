@@ -1,9 +1,11 @@
 #pragma once
 // Any MRPT CGenericSensor that delivers CObservation3DRangeScan (COpenNI2Sensor, CKinect,
-// CCameraSensor with grabber_type = rawlog, ...), configured from its INI section exactly as
-// rawlog-grabber does and polled at the section's process_rate.
+// CCameraSensor with grabber_type = rawlog, ...), polled at its process_rate as rawlog-grabber
+// does: either created from an INI section exactly as rawlog-grabber creates it, or a sensor
+// the application created and configured itself. Other observation types are skipped
+// (counted). While the pipeline runs, only its grabber thread may call the sensor.
 
-#include "FrameSource.h"
+#include <slamdunk/live/FrameSource.h>
 
 #include <mrpt/hwdrivers/CGenericSensor.h>
 
@@ -18,6 +20,10 @@ class SensorFrameSource : public FrameSource {
   /// driver or a section MRPT rejects.
   SensorFrameSource(const mrpt::config::CConfigFileBase& cfg, std::string section,
                     std::string driver, double frameTimeoutSeconds);
+  /// A sensor the application owns, already configured (loadConfig or setters). open() calls
+  /// its initialize() unless `initialized` says the application already did.
+  explicit SensorFrameSource(mrpt::hwdrivers::CGenericSensor::Ptr sensor, bool initialized = false,
+                             double frameTimeoutSeconds = 10.0);
   ~SensorFrameSource() override;
 
   void open() override;
@@ -30,6 +36,9 @@ class SensorFrameSource : public FrameSource {
   std::string section_, driver_;
   std::string lookedFor_;  ///< e.g. "device_number = 0": named in the no-device message
   double frameTimeout_;
+  bool initialized_ = false;
+  bool ownedByApplication_ = false;
+
   mrpt::hwdrivers::CGenericSensor::Ptr sensor_;
   std::deque<mrpt::obs::CObservation3DRangeScan::Ptr>
       pending_;  ///< one doProcess() can yield several

@@ -1,4 +1,4 @@
-#include "ReplayFrameSource.h"
+#include <slamdunk/live/ReplayFrameSource.h>
 
 #include <mrpt/system/datetime.h>
 

@@ -1,0 +1,42 @@
+#pragma once
+// Frames handed over by the application itself (its own driver, a ROS callback, a simulator):
+// push() from any thread never blocks, and the pipeline's grabber thread takes the frames from
+// here. close() ends the stream, like a camera unplugged at the end of a session.
+
+#include <slamdunk/live/FrameSource.h>
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+
+namespace slamdunk::live {
+
+class PushFrameSource : public FrameSource {
+ public:
+  /// At most `capacity` pushed frames wait for the grabber thread (it takes each at once, so
+  /// this only fills when the whole process is starved); beyond that the oldest is dropped.
+  explicit PushFrameSource(size_t capacity = 8);
+
+  /// Queues a frame; its images must be in memory or loadable (obs->load() is called on the
+  /// grabber thread). Returns false (the frame is ignored) once close() was called.
+  bool push(mrpt::obs::CObservation3DRangeScan::Ptr frame);
+  /// No more frames: the pipeline processes those already pushed, then ends.
+  void close();
+  /// Frames dropped here because the grabber thread did not keep up.
+  size_t dropped() const;
+
+  void open() override {}
+  /// Waits for a pushed frame; nullptr once closed and drained, or when `stop` is set.
+  mrpt::obs::CObservation3DRangeScan::Ptr next(const std::atomic<bool>& stop) override;
+  std::string describe() const override { return "frames pushed by the application"; }
+
+ private:
+  const size_t capacity_;
+  mutable std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> frames_;
+  size_t dropped_ = 0;
+  bool closed_ = false;
+};
+
+}  // namespace slamdunk::live
