@@ -9,8 +9,9 @@
 // the next one. The window is updated by the viewer's own thread at most `maxFps` times a second
 // from the latest frame published (frames in between are not drawn), and drawn by MRPT's window
 // thread and the OpenGL renderer's threads at the idle CPU priority (SCHED_IDLE), so drawing
-// only uses the CPU that SLAM leaves. Offline runs can pause and step (keys: space, s / right
-// arrow) through waitWhilePaused().
+// only uses the CPU that SLAM leaves; updates are spaced further when drawing costs more than
+// `maxDrawingCpu` of a core (idle-priority work still competes for caches). Offline runs can pause
+// and step (keys: space, s / right arrow) through waitWhilePaused().
 //
 //   LiveViewer viewer(slam.graph(), {"SlamDunk"});
 //   for each frame: r = slam.process(obs); viewer.publish(obs, r);
@@ -42,6 +43,10 @@ struct ViewerOptions {
   std::string title = "SlamDunk";
   int width = 1024, height = 640;  ///< pixels
   double maxFps = 10;              ///< window updates per second, at most
+  /// Share of one core the drawing threads may take: updates are spaced so that each one's
+  /// measured drawing CPU fits in it (between 1/maxFps and 2 s apart). 0 = no limit. Measured
+  /// on the threads at the idle priority, so it applies with drawAtIdlePriority.
+  double maxDrawingCpu = 0.1;
   /// Offline: space pauses and resumes, s or the right arrow processes one frame.
   bool playbackKeys = false;
   /// CPU priority (nice) of the viewer's thread, which updates the scene (light work).
