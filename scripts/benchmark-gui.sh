@@ -12,13 +12,8 @@ app=build/bin/slamdunk-rawlog
 [ -x "$app" ] || { echo "benchmark-gui: build first (scripts/build.sh)" >&2; exit 1; }
 [ -f "$rawlog" ] || { echo "benchmark-gui: $rawlog missing (ctest -R prepare_test_data)" >&2; exit 1; }
 out=$(mktemp -d)
-trap 'kill "$xvfb" 2>/dev/null || true; rm -rf "$out"' EXIT
-Xvfb :"$((100 + RANDOM % 800))" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset \
-  3>"$out/display" 2>"$out/xvfb.log" &
-xvfb=$!
-for _ in $(seq 100); do [ -s "$out/display" ] && break; sleep 0.1; done
-[ -s "$out/display" ] || { echo "benchmark-gui: Xvfb did not start" >&2; cat "$out/xvfb.log" >&2; exit 1; }
-export DISPLAY=:$(cat "$out/display")
+source scripts/lib/xvfb.sh
+start_xvfb benchmark-gui
 
 value() { sed -n "s/.*\"$1\": \([0-9.]*\).*/\1/p" "$2" | head -1; }
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }

@@ -13,13 +13,8 @@ app=build/bin/slamdunk-live
 [ -x "$app" ] || { echo "benchmark-live: build first (scripts/build.sh)" >&2; exit 1; }
 [ -f "$rawlog" ] || { echo "benchmark-live: $rawlog missing (ctest -R prepare_test_data)" >&2; exit 1; }
 out=$(mktemp -d)
-trap 'kill "$xvfb" 2>/dev/null || true; rm -rf "$out"' EXIT
-Xvfb :"$((100 + RANDOM % 800))" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset \
-  3>"$out/display" 2>"$out/xvfb.log" &
-xvfb=$!
-for _ in $(seq 100); do [ -s "$out/display" ] && break; sleep 0.1; done
-[ -s "$out/display" ] || { echo "benchmark-live: Xvfb did not start" >&2; exit 1; }
-export DISPLAY=:$(cat "$out/display")
+source scripts/lib/xvfb.sh
+start_xvfb benchmark-live
 printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' "$rawlog" \
   >"$out/default.ini"
 printf '[slamdunk-live]\nsource = REPLAY\ncheckpoint_every_keyframes = 0\ncheckpoint_every_seconds = 0\n[REPLAY]\ndriver = replay\nrawlog = %s\n' \

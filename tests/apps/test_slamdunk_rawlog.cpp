@@ -83,10 +83,7 @@ SlamRun expectOptimizationBeatsTrackingAlone(const std::string& rawlog, const Sl
   return track;
 }
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using test::readFile;
 
 }  // namespace
 
@@ -343,13 +340,13 @@ TEST(SlamdunkRawlog, SyntheticLoopLightsOffIsTrackedByDepthAlone) {
 
 // Hand-held motion (issue 11): fast rotation sweeps and a shaking hand, through a camera with
 // a 10 ms exposure (motion blur), a 20 ms rolling shutter, auto exposure and depth 5 ms after
-// colour; the tracker knows the camera's timing (SensorTiming). Rotations: every frame tracked,
-// ATE <= 1 cm with exact depth and <= 2 cm with Kinect-like depth, the largest frame-to-frame
-// error under 2 cm and 1 degree (measured 2.7 / 6.0 mm, 0.7 / 1.6 cm, 0.11 / 0.26 deg; without
-// the timing compensation 2.7 cm and 6.9 cm). The shake's accelerations (about 2000 deg/s²)
-// change the velocity within one readout, which the constant-velocity compensation cannot
-// follow: 1.0 cm and 2.5-2.8 cm measured (1.9 cm and 4.8 cm without it); its bounds guard that
-// level until a better model meets issue 11's.
+// colour; the tracker is given the camera's timing as its calibration (the readout is learned
+// on from there). Every frame tracked, ATE <= 1 cm with exact depth and <= 2 cm with Kinect-like
+// depth, the largest frame-to-frame error under 2 cm and 1 degree (measured: rotations 1.3 /
+// 4.5 mm ATE, 2.7 / 8.4 mm and 0.05 / 0.13 deg per frame; shake 5.7 / 7.0 mm ATE, 0.62 / 0.65
+// deg). One exception: the shake's first frame pair, 2.0 / 2.2 cm. The first keyframe is made
+// before any motion is known, so its points keep the rolling shutter's bend and the second
+// frame is registered against them; after it the shake's largest is 1.6 / 1.8 cm.
 class HandHeld : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
 
 TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
@@ -365,11 +362,20 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
   const bool shake = trajectory == "shake";
   const double ate = r.value("ate_rmse_m");
-  EXPECT_LT(ate, shake ? 0.015 : (kinect ? 0.02 : 0.01)) << r.result.output;
-  // Frame to frame: RPE over one frame period (33 ms).
-  const auto rpe = test::runCommand(test::toolPath("evaluate-trajectory") + " " +
-                                    q(test::groundTruthOf(rawlog)) + " " + q(r.trajectory) +
-                                    " --rpe-delta 0.0333 --json");
+  EXPECT_LT(ate, kinect ? 0.02 : 0.01) << r.result.output;
+  // Frame to frame: RPE over one frame period (33 ms), with and without the first frame.
+  const auto rpeOf = [&](const std::string& trajectory) {
+    return test::runCommand(test::toolPath("evaluate-trajectory") + " " +
+                            q(test::groundTruthOf(rawlog)) + " " + q(trajectory) +
+                            " --rpe-delta 0.0333 --json");
+  };
+  const auto rpe = rpeOf(r.trajectory);
+  Trajectory afterFirst = readTumTrajectory(r.trajectory);
+  ASSERT_GT(afterFirst.size(), 3u);
+  afterFirst.erase(afterFirst.begin());
+  writeTumTrajectory(dir + "/after_first.txt", afterFirst, "without the first frame");
+  const auto rpeAfterFirst = rpeOf(dir + "/after_first.txt");
+  ASSERT_EQ(rpeAfterFirst.exitCode, 0) << rpeAfterFirst.output;
   ASSERT_EQ(rpe.exitCode, 0) << rpe.output;
   const double maxTrans = test::jsonValue(rpe.output, "rpe_trans_max_m_per_s");
   const double maxRot = test::jsonValue(rpe.output, "rpe_rot_max_deg_per_s");
@@ -379,7 +385,11 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
       name.c_str(), r.value("tracked"), r.value("keyframes"), ate, maxTrans, maxRot,
       test::jsonValue(rpe.output, "rpe_trans_median_m_per_s"),
       test::jsonValue(rpe.output, "rpe_rot_median_deg_per_s"));
-  EXPECT_LT(maxTrans, shake ? 0.04 : 0.02) << rpe.output;
+  const double maxTransAfterFirst = test::jsonValue(rpeAfterFirst.output, "rpe_trans_max_m_per_s");
+  std::printf("%s: largest per-frame error after the first frame %.4f m\n", name.c_str(),
+              maxTransAfterFirst);
+  EXPECT_LT(maxTrans, shake ? 0.03 : 0.02) << rpe.output;
+  EXPECT_LT(maxTransAfterFirst, 0.02) << rpeAfterFirst.output;
   EXPECT_LT(maxRot, 1.0) << rpe.output;
 }
 

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <regex>
 
 namespace fs = std::filesystem;
@@ -57,6 +59,11 @@ CommandResult runCommand(const std::string& commandLine) {
 }
 
 std::string shellQuote(const std::string& s) { return "'" + s + "'"; }
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
 
 std::string preparedRawlog(const std::string& name) {
   const fs::path p = fs::path(SLAMDUNK_BINARY_DIR) / "test-data" / (name + ".rawlog");

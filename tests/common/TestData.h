@@ -26,6 +26,10 @@ CommandResult runCommand(const std::string& commandLine);
 
 /// Single-quoted for a shell command line.
 std::string shellQuote(const std::string& s);
+
+/// A file's whole content (empty when it cannot be read).
+std::string readFile(const std::string& path);
+
 /// <build>/test-data/<name>.rawlog made by the prepare_test_data fixture; empty if absent.
 std::string preparedRawlog(const std::string& name);
 /// "<dir>/<stem>_groundtruth.txt" beside a rawlog (as tum2rawlog and synthetic-rgbd write it).

@@ -42,10 +42,7 @@ namespace {
 
 std::string q(const std::string& s) { return test::shellQuote(s); }
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using test::readFile;
 
 /// Every file in a folder: name -> content.
 std::map<std::string, std::string> snapshot(const std::string& dir) {

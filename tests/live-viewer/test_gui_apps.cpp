@@ -24,12 +24,7 @@ namespace {
 
 std::string q(const std::string& s) { return test::shellQuote(s); }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::readFile;
 
 /// Waits up to `seconds` for `text` in a log file.
 bool waitForText(const std::string& log, const std::string& text, double seconds) {

@@ -59,12 +59,7 @@ double viewYawDeg(const Pose& T_w_opt) {
 
 double wrapDeg(double a) { return std::remainder(a, 360.0); }
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::readFile;
 
 }  // namespace
 

@@ -17,12 +17,7 @@ using namespace slamdunk;
 
 namespace {
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::readFile;
 
 }  // namespace
 

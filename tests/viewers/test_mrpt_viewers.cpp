@@ -23,12 +23,7 @@ namespace {
 
 std::string q(const std::string& s) { return test::shellQuote(s); }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::readFile;
 
 /// Lines of a viewer's output that report a failure (GTK's own layout warnings, which a
 /// window without a window manager triggers, are not the viewer's errors).
