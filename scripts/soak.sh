@@ -7,10 +7,13 @@
 # frame log, then prints:
 #   - the RSS slope after warm-up (least squares over the samples from one minute after the last
 #     new keyframe, and from a tenth of the run at the earliest: memory settles for a minute or
-#     so after the map stops growing, the last optimizations and pool windows), in MB per hour, next to what the per-frame records alone add: the pose kept for the output
-#     trajectory (144 B), the timing sample (48 B) and the latency sample (8 B) of every frame,
-#     200 B at 30 frames/s = 21.6 MB per hour, kept because every frame's pose is written at the
-#     end; the rest is what the map and everything else add;
+#     so after the map stops growing, the last optimizations and pool windows), in MB per hour,
+#     next to what the per-frame records alone add: the pose kept for the output trajectory
+#     (144 B), the checkpoint writer's copy of it (144 B: each checkpoint writes every frame's
+#     pose through the keyframes' current poses), the timing sample (48 B) and the latency
+#     sample (8 B) of every frame, 344 B at 30 frames/s = 37.2 MB per hour, kept because every
+#     frame's pose is written at the end and in each checkpoint; the rest is what the map and
+#     everything else add;
 #   - frames, keyframes added, latency p50 / p95 / max per time block;
 #   - whether memory is flat (the rest within +-SOAK_RSS_TOLERANCE MB/h, 5 by default) and latency
 #     steady (every block's p95 after warm-up within 1.3 x the lowest + 2 ms), and the latency's
@@ -96,9 +99,9 @@ awk -F, -v w="$warmup" -v fps="$fps" -v tol="$tolerance" '
     if (n < 3) { print "RSS: fewer than 3 samples after warm-up: run longer"; exit }
     slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)           # KiB per second
     mbh = slope * 3600 * 1024 / 1e6
-    records = 200 * fps * 3600 / 1e6                              # MB per hour
+    records = 344 * fps * 3600 / 1e6                              # MB per hour
     rest = mbh - records
-    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %.1f MB/h, of which per-frame records %.1f MB/h (200 B x %.1f frames/s), the rest %+.1f MB/h: %s\n",
+    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %.1f MB/h, of which per-frame records %.1f MB/h (344 B x %.1f frames/s), the rest %+.1f MB/h: %s\n",
       first / 1024, last / 1024, n, mbh, records, fps, rest,
       (rest <= tol && rest >= -tol) ? "FLAT" : "NOT FLAT (beyond +-" tol " MB/h)"
   }' "$work/rss.csv"

@@ -118,8 +118,8 @@ CheckpointInfo CheckpointInfo::read(const std::string& folder) {
 }
 
 CheckpointWriter::CheckpointWriter(const CheckpointOptions& options, std::string folder,
-                                   std::shared_ptr<const KeyframeGraph> graph,
-                                   const FrameLog& frames, std::string description)
+                                   std::shared_ptr<const KeyframeGraph> graph, FrameLog& frames,
+                                   std::string description)
     : options_(options),
       folder_(normalFolder(folder)),
       description_(std::move(description)),
@@ -204,7 +204,7 @@ void CheckpointWriter::write() {
   processedAtLast_ = processed_.load();
   try {
     // Records first, graph second: every record's keyframe is then in the snapshot.
-    frames_.copySince(copied_.size(), copied_);
+    frames_.takeNew(copied_);
     const auto snapStart = Clock::now();
     const std::shared_ptr<KeyframeGraph> graph = graph_->snapshot();
     const double snapshotMs = msSince(snapStart);

@@ -12,7 +12,7 @@ FrameCsvLog::FrameCsvLog(const std::string& path) : output_(path), file_(output_
 }
 
 void FrameCsvLog::add(const TrackingResult& r, TimePoint grabbed, double latencyMs,
-                       size_t keyframes) {
+                      size_t keyframes) {
   if (!firstGrab_) firstGrab_ = grabbed;
   const double grabSeconds = std::chrono::duration<double>(grabbed - *firstGrab_).count();
   char line[256];

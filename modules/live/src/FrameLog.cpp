@@ -4,21 +4,19 @@ namespace slamdunk::live {
 
 void FrameLog::append(const FrameRecord& record) {
   std::lock_guard lock(mutex_);
-  records_.push_back(record);
+  pending_.push_back(record);
 }
 
-size_t FrameLog::size() const {
-  std::lock_guard lock(mutex_);
-  return records_.size();
+void FrameLog::takeNew(std::deque<FrameRecord>& out) {
+  std::vector<FrameRecord> taken;
+  {
+    std::lock_guard lock(mutex_);
+    taken.swap(pending_);
+  }
+  out.insert(out.end(), taken.begin(), taken.end());
 }
 
-void FrameLog::copySince(size_t first, std::vector<FrameRecord>& out) const {
-  std::lock_guard lock(mutex_);
-  if (first >= records_.size()) return;
-  out.insert(out.end(), records_.begin() + static_cast<std::ptrdiff_t>(first), records_.end());
-}
-
-Trajectory FrameLog::trajectory(const std::vector<FrameRecord>& records,
+Trajectory FrameLog::trajectory(const std::deque<FrameRecord>& records,
                                 const KeyframeGraph& graph) {
   const auto poses = graph.poses();
   Trajectory out;

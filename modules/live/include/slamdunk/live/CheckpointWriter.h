@@ -18,6 +18,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -59,7 +60,7 @@ class CheckpointWriter {
   /// Checks that the folder's parent exists (std::runtime_error otherwise); the thread starts
   /// with start(). `description` goes into the trajectory files' header.
   CheckpointWriter(const CheckpointOptions& options, std::string folder,
-                   std::shared_ptr<const KeyframeGraph> graph, const FrameLog& frames,
+                   std::shared_ptr<const KeyframeGraph> graph, FrameLog& frames,
                    std::string description);
   ~CheckpointWriter();  ///< stop()
   CheckpointWriter(const CheckpointWriter&) = delete;
@@ -85,14 +86,14 @@ class CheckpointWriter {
   const CheckpointOptions options_;
   const std::string folder_, description_;
   const std::shared_ptr<const KeyframeGraph> graph_;
-  const FrameLog& frames_;
+  FrameLog& frames_;
 
   std::atomic<size_t> processed_{0}, tracked_{0}, newKeyframes_{0};
   std::atomic<size_t> keyframesAtLast_{0};  ///< newKeyframes_ at the last checkpoint
   std::atomic<size_t> processedAtLast_{0};  ///< processed_ at the last checkpoint
 
-  std::mutex writeMutex_;            // one checkpoint at a time (writer thread, writeNow())
-  std::vector<FrameRecord> copied_;  ///< the frame records seen so far (under writeMutex_)
+  std::mutex writeMutex_;           // one checkpoint at a time (writer thread, writeNow())
+  std::deque<FrameRecord> copied_;  ///< the frame records seen so far (under writeMutex_)
 
   mutable std::mutex mutex_;  // guards stopping_ and figures_
   std::condition_variable wake_;

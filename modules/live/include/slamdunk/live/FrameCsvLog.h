@@ -1,8 +1,8 @@
 #pragma once
-// One CSV line per processed frame (LiveSession::frameLog, slamdunk-live --frame-log): when it was grabbed, its latency from grab to
-// pose, the tracking time, the tracking state and the keyframe count. Long sessions (soak tests)
-// read memory and latency trends from it. Streamed to a temporary file by the tracking thread
-// and renamed over the target by finish(), like every other output.
+// One CSV line per processed frame (LiveSession::frameLog, slamdunk-live --frame-log): when it was
+// grabbed, its latency from grab to pose, the tracking time, the tracking state and the keyframe
+// count. Long sessions (soak tests) read memory and latency trends from it. Streamed to a temporary
+// file by the tracking thread and renamed over the target by finish(), like every other output.
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/tracking/Tracker.h>
