@@ -22,6 +22,8 @@
 #   scripts/soak.sh 5 1             5 minutes, blocks of 1 minute (a quick check)
 #   SOAK_NICE=5 scripts/soak.sh     the app at lower priority (a shared machine)
 #   SOAK_RAWLOG=x.rawlog scripts/soak.sh   another recording (it should end where it begins)
+#   SOAK_CHECKPOINTS=0 scripts/soak.sh      checkpoints off (per-frame records then 200 B)
+#   SOAK_WORK=DIR scripts/soak.sh           outputs in DIR (default build/soak)
 #   scripts/soak.sh --analyse [BLOCK]      the figures of the last run again (build/soak)
 # Outputs stay in build/soak/: frames.csv (per frame), rss.csv (per sample), summary.json, log.
 set -euo pipefail
@@ -33,8 +35,12 @@ block=${2:-5}
 interval=${SOAK_SAMPLE_SECONDS:-5}
 tolerance=${SOAK_RSS_TOLERANCE:-5}
 bin=build/bin
-work=build/soak
+work=${SOAK_WORK:-build/soak}
 mkdir -p "$work"
+# Checkpoints on (the live default) keep a second copy of every frame's record (see above).
+checkpoints=${SOAK_CHECKPOINTS:-1}
+recordBytes=344
+[ "$checkpoints" = 0 ] && recordBytes=200
 run() {  # the soak itself: the app replaying, RSS sampled, stopped by SIGINT
   for tool in slamdunk-live synthetic-rgbd; do
     [ -x "$bin/$tool" ] || { echo "soak: $bin/$tool not built (run scripts/build.sh)" >&2; exit 1; }
@@ -49,9 +55,12 @@ run() {  # the soak itself: the app replaying, RSS sampled, stopped by SIGINT
     fi
   fi
   rawlog=$(realpath "$rawlog")
+  checkpointKeys=""
+  [ "$checkpoints" = 0 ] && checkpointKeys=$'checkpoint_every_keyframes = 0\ncheckpoint_every_seconds = 0'
   cat > "$work/live.ini" <<EOF
 [slamdunk-live]
 source = REPLAY
+$checkpointKeys
 [REPLAY]
 driver = replay
 rawlog = $rawlog
@@ -92,17 +101,17 @@ warmup=$(awk -v k="$lastkf" -v d="$duration" 'BEGIN { w = k + 60; if (w < d / 10
 echo "warm-up: the last keyframe was added at ${lastkf} s, memory measured from ${warmup} s; $fps frames/s processed over $duration s"
 
 # RSS: least-squares slope over the samples after warm-up.
-awk -F, -v w="$warmup" -v fps="$fps" -v tol="$tolerance" '
+awk -F, -v w="$warmup" -v fps="$fps" -v tol="$tolerance" -v bytes="$recordBytes" '
   NR > 1 && $1 >= w { n++; sx += $1; sy += $2; sxx += $1 * $1; sxy += $1 * $2
                       if (n == 1) first = $2; last = $2 }
   END {
     if (n < 3) { print "RSS: fewer than 3 samples after warm-up: run longer"; exit }
     slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)           # KiB per second
     mbh = slope * 3600 * 1024 / 1e6
-    records = 344 * fps * 3600 / 1e6                              # MB per hour
+    records = bytes * fps * 3600 / 1e6                            # MB per hour
     rest = mbh - records
-    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %.1f MB/h, of which per-frame records %.1f MB/h (344 B x %.1f frames/s), the rest %+.1f MB/h: %s\n",
-      first / 1024, last / 1024, n, mbh, records, fps, rest,
+    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %.1f MB/h, of which per-frame records %.1f MB/h (%d B x %.1f frames/s), the rest %+.1f MB/h: %s\n",
+      first / 1024, last / 1024, n, mbh, records, bytes, fps, rest,
       (rest <= tol && rest >= -tol) ? "FLAT" : "NOT FLAT (beyond +-" tol " MB/h)"
   }' "$work/rss.csv"
 

@@ -4,7 +4,7 @@
 // lock; the writer takes the records appended since its last checkpoint and keeps the only
 // copy of them (SlamSystem keeps its own, for its own thread): the log itself holds one
 // checkpoint interval's records at most, so a long session keeps each record twice, not three
-// times (a 30-minute soak measured the third copy: 16 MB an hour).
+// times (a 30-minute soak: 57.6 MB an hour with the third copy, 44.6 without).
 
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/graph/KeyframeGraph.h>
