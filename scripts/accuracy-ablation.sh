@@ -18,9 +18,10 @@ configs=(
   "paper's 3D-3D cost (residual_form = edge)|residual_form=edge"
   "keypoint noise not learned|estimate_keypoint_noise=false"
   "rolling shutter not learned|estimate_rolling_shutter=false"
+  "frame velocity not estimated (estimate_frame_velocity = false)|estimate_frame_velocity=false"
   "window follows position only (window_shift_angle = 0)|window_shift_angle=0"
   "textured_cell_features = 6|textured_cell_features=6"
-  "all of edge, not learned, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false window_shift_angle=0"
+  "all of edge, not learned, no velocity, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false estimate_frame_velocity=false window_shift_angle=0"
 )
 
 field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }

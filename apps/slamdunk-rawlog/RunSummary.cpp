@@ -29,7 +29,7 @@ double perKeyframeKiB(const GraphMemory& m, size_t bytes) {
   return m.keyframes ? bytes / 1024.0 / m.keyframes : 0.0;
 }
 template <class F>
-std::vector<double> column(const std::deque<StageTimings>& t, F f) {
+std::vector<double> column(const SessionLog<StageTimings>& t, F f) {
   std::vector<double> out;
   for (const auto& s : t) out.push_back(f(s));
   return out;

@@ -144,17 +144,16 @@ TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
 }
 
 // 7-Scenes' ground truth comes from KinectFusion (dense ICP on the depth images) and its colour
-// camera has no published calibration (config-ini/cameras/7scenes.ini). The default pipeline,
-// which weighs each feature's pixel and depth by what it learns of the camera, agrees with that
-// ground truth less well (0.039 m) than a 3D-3D cost trusting depth (0.027 m), while it is far
-// better against motion capture (TUM fr1/xyz: 0.008 vs 0.015 m). The bound is the real-time
-// issue's (0.045 m); the accuracy issue's 0.038 m is not met (README, Results).
+// camera has no published calibration (config-ini/cameras/7scenes.ini). Its colour camera's
+// rolling shutter (about 20 ms, learned) bends the features on every fast turn: with each
+// frame's velocity estimated with its pose, the default is within the accuracy issue's bound
+// (0.0355 m; 0.0387 m with the motion between frames extrapolated instead).
 TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
   const SlamRun opt = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), defaultConfig());
   ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
   EXPECT_EQ(opt.value("tracked"), 1000) << opt.result.output;
-  EXPECT_LE(opt.value("ate_rmse_m"), 0.045) << opt.result.output;
+  EXPECT_LE(opt.value("ate_rmse_m"), 0.038) << opt.result.output;
 }
 
 // The paper's 3D-3D cost (residual_form = edge) on 7-Scenes: within the accuracy issue's bound,
@@ -342,11 +341,10 @@ TEST(SlamdunkRawlog, SyntheticLoopLightsOffIsTrackedByDepthAlone) {
 // a 10 ms exposure (motion blur), a 20 ms rolling shutter, auto exposure and depth 5 ms after
 // colour; the tracker is given the camera's timing as its calibration (the readout is learned
 // on from there). Every frame tracked, ATE <= 1 cm with exact depth and <= 2 cm with Kinect-like
-// depth, the largest frame-to-frame error under 2 cm and 1 degree (measured: rotations 1.3 /
-// 4.5 mm ATE, 2.7 / 8.4 mm and 0.05 / 0.13 deg per frame; shake 5.7 / 7.0 mm ATE, 0.62 / 0.65
-// deg). One exception: the shake's first frame pair, 2.0 / 2.2 cm. The first keyframe is made
-// before any motion is known, so its points keep the rolling shutter's bend and the second
-// frame is registered against them; after it the shake's largest is 1.6 / 1.8 cm.
+// depth, the largest frame-to-frame error under 2 cm and 1 degree, the first frame pair
+// included (measured with each frame's velocity estimated: rotations 1.6 / 4.3 mm ATE, 2.8 /
+// 8.1 mm per frame; shake 1.9 / 3.5 mm ATE, 6.9 / 9.3 mm per frame. With the motion between
+// frames extrapolated instead, the shake's first pair erred by 2.0 / 2.2 cm).
 class HandHeld : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
 
 TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
@@ -360,22 +358,12 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
               configWith(dir, "[tracker]\nrolling_shutter_ms = 20\ndepth_time_offset_ms = 5\n"));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
-  const bool shake = trajectory == "shake";
   const double ate = r.value("ate_rmse_m");
   EXPECT_LT(ate, kinect ? 0.02 : 0.01) << r.result.output;
-  // Frame to frame: RPE over one frame period (33 ms), with and without the first frame.
-  const auto rpeOf = [&](const std::string& trajectory) {
-    return test::runCommand(test::toolPath("evaluate-trajectory") + " " +
-                            q(test::groundTruthOf(rawlog)) + " " + q(trajectory) +
-                            " --rpe-delta 0.0333 --json");
-  };
-  const auto rpe = rpeOf(r.trajectory);
-  Trajectory afterFirst = readTumTrajectory(r.trajectory);
-  ASSERT_GT(afterFirst.size(), 3u);
-  afterFirst.erase(afterFirst.begin());
-  writeTumTrajectory(dir + "/after_first.txt", afterFirst, "without the first frame");
-  const auto rpeAfterFirst = rpeOf(dir + "/after_first.txt");
-  ASSERT_EQ(rpeAfterFirst.exitCode, 0) << rpeAfterFirst.output;
+  // Frame to frame: RPE over one frame period (33 ms).
+  const auto rpe = test::runCommand(test::toolPath("evaluate-trajectory") + " " +
+                                    q(test::groundTruthOf(rawlog)) + " " + q(r.trajectory) +
+                                    " --rpe-delta 0.0333 --json");
   ASSERT_EQ(rpe.exitCode, 0) << rpe.output;
   const double maxTrans = test::jsonValue(rpe.output, "rpe_trans_max_m_per_s");
   const double maxRot = test::jsonValue(rpe.output, "rpe_rot_max_deg_per_s");
@@ -385,11 +373,7 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
       name.c_str(), r.value("tracked"), r.value("keyframes"), ate, maxTrans, maxRot,
       test::jsonValue(rpe.output, "rpe_trans_median_m_per_s"),
       test::jsonValue(rpe.output, "rpe_rot_median_deg_per_s"));
-  const double maxTransAfterFirst = test::jsonValue(rpeAfterFirst.output, "rpe_trans_max_m_per_s");
-  std::printf("%s: largest per-frame error after the first frame %.4f m\n", name.c_str(),
-              maxTransAfterFirst);
-  EXPECT_LT(maxTrans, shake ? 0.03 : 0.02) << rpe.output;
-  EXPECT_LT(maxTransAfterFirst, 0.02) << rpeAfterFirst.output;
+  EXPECT_LT(maxTrans, 0.02) << rpe.output;
   EXPECT_LT(maxRot, 1.0) << rpe.output;
 }
 

@@ -66,35 +66,52 @@ Trajectory readTumTrajectory(const std::string& path) {
   return traj;
 }
 
+struct TumTrajectoryWriter::Impl {
+  explicit Impl(const std::string& path) : out(path), file(out.tempPath()) {}
+  AtomicOutput out;
+  std::ofstream file;
+};
+
+TumTrajectoryWriter::TumTrajectoryWriter(const std::string& path, const std::string& headerComment)
+    : impl_(std::make_unique<Impl>(path)) {
+  std::ofstream& f = impl_->file;
+  if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
+  if (!headerComment.empty()) {
+    std::istringstream lines(headerComment);
+    std::string l;
+    while (std::getline(lines, l)) f << "# " << l << "\n";
+  }
+  f << "# timestamp tx ty tz qx qy qz qw\n";
+}
+
+TumTrajectoryWriter::~TumTrajectoryWriter() = default;
+
+void TumTrajectoryWriter::add(double timestamp, const Pose& pose) {
+  if (!isValidPose(pose))
+    throw std::runtime_error("refusing to write an invalid (NaN or non-rigid) pose at t=" +
+                             std::to_string(timestamp) + " to '" + impl_->out.targetPath() + "'");
+  Eigen::Quaterniond q(pose.linear());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1;  // one canonical sign: files diff cleanly between runs
+  const Eigen::Vector3d t = pose.translation();
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamp, t.x(),
+                t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  impl_->file << buf;
+}
+
+void TumTrajectoryWriter::commit() {
+  impl_->file.close();  // flushes; a full disk shows here
+  if (!impl_->file)
+    throw std::runtime_error("write error on trajectory file '" + impl_->out.targetPath() + "'");
+  impl_->out.commit();
+}
+
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
                         const std::string& headerComment) {
-  AtomicOutput out(path);
-  {
-    std::ofstream f(out.tempPath());
-    if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
-    if (!headerComment.empty()) {
-      std::istringstream lines(headerComment);
-      std::string l;
-      while (std::getline(lines, l)) f << "# " << l << "\n";
-    }
-    f << "# timestamp tx ty tz qx qy qz qw\n";
-    char buf[256];
-    for (const StampedPose& sp : traj) {
-      if (!isValidPose(sp.pose))
-        throw std::runtime_error("refusing to write an invalid (NaN or non-rigid) pose at t=" +
-                                 std::to_string(sp.timestamp) + " to '" + path + "'");
-      Eigen::Quaterniond q(sp.pose.linear());
-      q.normalize();
-      if (q.w() < 0) q.coeffs() *= -1;  // one canonical sign: files diff cleanly between runs
-      const Eigen::Vector3d t = sp.pose.translation();
-      std::snprintf(buf, sizeof(buf), "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", sp.timestamp,
-                    t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-      f << buf;
-    }
-    f.flush();
-    if (!f) throw std::runtime_error("write error on trajectory file '" + path + "'");
-  }
-  out.commit();
+  TumTrajectoryWriter writer(path, headerComment);
+  for (const StampedPose& sp : traj) writer.add(sp.timestamp, sp.pose);
+  writer.commit();
 }
 
 }  // namespace slamdunk

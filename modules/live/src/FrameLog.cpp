@@ -7,26 +7,30 @@ void FrameLog::append(const FrameRecord& record) {
   pending_.push_back(record);
 }
 
-void FrameLog::takeNew(std::deque<FrameRecord>& out) {
-  std::vector<FrameRecord> taken;
+void FrameLog::takeNew(SessionLog<FrameRecord>& out) {
+  // Two vectors swapped back and forth keep their capacity: no buffer of a checkpoint
+  // interval's records is allocated and freed each time.
   {
     std::lock_guard lock(mutex_);
-    taken.swap(pending_);
+    spare_.swap(pending_);
   }
-  out.insert(out.end(), taken.begin(), taken.end());
+  out.append(spare_.begin(), spare_.end());
+  spare_.clear();
 }
 
-Trajectory FrameLog::trajectory(const std::deque<FrameRecord>& records,
-                                const KeyframeGraph& graph) {
+size_t FrameLog::forEachTrackedPose(const SessionLog<FrameRecord>& records,
+                                    const KeyframeGraph& graph,
+                                    const std::function<void(double, const Pose&)>& visit) {
   const auto poses = graph.poses();
-  Trajectory out;
-  out.reserve(records.size());
+  size_t tracked = 0;
   for (const FrameRecord& f : records) {
     if (f.status == TrackingStatus::Lost) continue;
     const auto it = poses.find(f.reference);
-    if (it != poses.end()) out.push_back({f.timestamp, it->second * f.poseInReference});
+    if (it == poses.end()) continue;
+    visit(f.timestamp, it->second * f.poseInReference);
+    ++tracked;
   }
-  return out;
+  return tracked;
 }
 
 }  // namespace slamdunk::live

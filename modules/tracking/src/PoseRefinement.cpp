@@ -177,31 +177,53 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
 }  // namespace
 
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
-                const PoseRefinementOptions& options, const DepthAlignmentTerm* depth) {
+                const PoseRefinementOptions& options, const DepthAlignmentTerm* depth,
+                FrameVelocity* velocity) {
   Pose T = initial;
+  if (velocity) velocity->estimate = velocity->compensated;
   if (pairs.size() < 3 && !depth) return T;
+  // The pose's 6 parameters, and the velocity's 6 after them when it is refined too.
+  using Matrix12 = Eigen::Matrix<double, 12, 12>;
+  using Vector12 = Eigen::Matrix<double, 12, 1>;
+  const int n = velocity ? 12 : 6;
   for (int it = 0; it < options.iterations; ++it) {
-    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    if (depth) addDepthTerm(T, *depth, options.huberSigmas, H, g);
+    Matrix12 H = Matrix12::Zero();
+    Vector12 g = Vector12::Zero();
+    if (depth) {
+      Eigen::Matrix<double, 6, 6> Hd = Eigen::Matrix<double, 6, 6>::Zero();
+      Eigen::Matrix<double, 6, 1> gd = Eigen::Matrix<double, 6, 1>::Zero();
+      addDepthTerm(T, *depth, options.huberSigmas, Hd, gd);
+      H.topLeftCorner<6, 6>() = Hd;
+      g.head<6>() = gd;
+    }
     const Eigen::Matrix3d R = T.linear();
+    const Twist dv = velocity ? Twist(velocity->estimate - velocity->compensated) : Twist::Zero();
     for (const PosePair& p : pairs) {
-      const Eigen::Vector3d q = T * p.source;
+      const Eigen::Vector3d q = T * (p.source + p.velocityJacobian * dv);
       const Eigen::Vector3d e = q - p.target;
       const Eigen::Matrix3d cov = R * p.sourceCov * R.transpose() + p.targetCov;
       const Eigen::Matrix3d info = cov.inverse();
       const double m2 = e.dot(info * e);  // squared Mahalanobis distance
       const double m = std::sqrt(m2);
       const double w = m <= options.huberSigmas ? 1.0 : options.huberSigmas / m;
-      // Left perturbation: exp(δ) T p ≈ q + δt + δω × q, so de/dδ = [I, -[q]×].
-      Eigen::Matrix<double, 3, 6> J;
+      // Left perturbation: exp(δ) T p ≈ q + δt + δω × q, so de/dδ = [I, -[q]×]; and the
+      // velocity moves the source: de/dν = R dsource/dν.
+      Eigen::Matrix<double, 3, 12> J;
       J.leftCols<3>() = Eigen::Matrix3d::Identity();
-      J.rightCols<3>() = -skew(q);
-      H += w * J.transpose() * info * J;
-      g += w * J.transpose() * info * e;
+      J.middleCols<3>(3) = -skew(q);
+      J.rightCols<6>() = R * p.velocityJacobian;
+      H.topLeftCorner(n, n) += w * J.leftCols(n).transpose() * info * J.leftCols(n);
+      g.head(n) += w * J.leftCols(n).transpose() * info * e;
     }
-    const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
-    if (!delta.allFinite()) break;
+    if (velocity) {
+      const Twist precision = velocity->priorSigma.cwiseInverse().cwiseAbs2();
+      H.bottomRightCorner<6, 6>().diagonal() += precision;
+      g.tail<6>() += precision.cwiseProduct(velocity->estimate - velocity->prior);
+    }
+    const Eigen::VectorXd solved = -H.topLeftCorner(n, n).ldlt().solve(g.head(n));
+    if (!solved.allFinite()) break;
+    const Eigen::Matrix<double, 6, 1> delta = solved.head<6>();
+    if (velocity) velocity->estimate += solved.tail<6>();
     Pose step = Pose::Identity();
     const double angle = delta.tail<3>().norm();
     if (angle > 1e-12)

@@ -12,6 +12,40 @@ Pose SensorTiming::interpolate(const Pose& motion, double fraction) {
   return T;
 }
 
+Twist SensorTiming::twist(const Pose& motion, double ms) {
+  const Eigen::AngleAxisd rotation(motion.linear());
+  Twist v;
+  v.head<3>() = motion.translation() / (ms / 1000.0);
+  v.tail<3>() = rotation.angle() * rotation.axis() / (ms / 1000.0);
+  return v;
+}
+
+Pose SensorTiming::motion(const Twist& velocity, double ms) {
+  const double seconds = ms / 1000.0;
+  const Eigen::Vector3d angleAxis = velocity.tail<3>() * seconds;
+  Pose T = Pose::Identity();
+  const double angle = angleAxis.norm();
+  if (angle > 1e-12) T.linear() = Eigen::AngleAxisd(angle, angleAxis / angle).toRotationMatrix();
+  T.translation() = velocity.head<3>() * seconds;
+  return T;
+}
+
+Eigen::Matrix<double, 3, 6> SensorTiming::velocityJacobian(const Eigen::Vector3d& point, double row,
+                                                           double rows) const {
+  // The camera at τ seconds from the frame's time is exp(τ ν): a point seen then is, in the
+  // frame's camera, p + τ (v + ω × p).
+  const double rowSeconds = ((row + 0.5) / rows - 0.5) * options_.rollingShutterMs / 1000.0;
+  const double depthSeconds = options_.depthTimeOffsetMs / 1000.0;
+  const Eigen::Vector3d ray = point.normalized();
+  const Eigen::Matrix3d alongRay = ray * ray.transpose();
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - alongRay;
+  Eigen::Matrix<double, 3, 6> dMotion;  // d(v + ω × p)/d(v, ω)
+  dMotion.leftCols<3>() = Eigen::Matrix3d::Identity();
+  dMotion.rightCols<3>() << 0, point.z(), -point.y(), -point.z(), 0, point.x(), point.y(),
+      -point.x(), 0;  // -[p]×
+  return (rowSeconds * across + depthSeconds * alongRay) * dMotion;
+}
+
 void SensorTiming::compensate(FeatureSet& features, const RgbdFrame& frame, const Pose& motion,
                               double motionMs) const {
   if (!enabled() || !(motionMs > 0)) return;

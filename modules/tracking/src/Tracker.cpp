@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace slamdunk {
 
@@ -12,6 +13,9 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
+
+/// A keypoint's row as a fraction of the image height from its middle (InlierSample).
+double rowFraction(double row, double rows) { return (row + 0.5) / rows - 0.5; }
 
 /// How many of the inlier matches land in each keyframe.
 std::map<KeyframeId, size_t> inlierCountPerKeyframe(const FeaturePool& pool,
@@ -82,16 +86,30 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 
   t = Clock::now();
   FeatureSet features = extractor_.extract(frame);
-  // Rolling shutter and depth offset, undone with the motion since the last frame (constant
-  // velocity; nothing to undo without it), and again below with the motion measured. Not on
-  // the frame right after the first: the first keyframe's own points could not be undone, and
-  // undoing this frame's alone made its pose worse (the shake: 2.0 -> 3.1 cm).
+  // Rolling shutter and depth offset, undone with the velocity predicted from the last frames
+  // (nothing to undo without them), then again with the velocity estimated with the pose. The
+  // frame right after the first has no motion yet: it is registered as measured, then both it
+  // and the first keyframe are undone with the motion between them (registerFirstPair; undoing
+  // this frame's points alone made its pose worse: the shake 2.0 -> 3.1 cm).
+  const double intervalMs = 1000.0 * (frame.timestamp() - previousTimestamp);
   const bool compensating = sensorTiming_.enabled() && lastMotion_ && lastMotionMs_ > 0;
+  std::optional<FirstKeyframe> firstKeyframe = std::move(firstKeyframe_);
+  firstKeyframe_.reset();
+  const bool firstPair = firstKeyframe && !compensating && !lost_ &&
+                         graph_->contains(firstKeyframe->id) &&
+                         frame.timestamp() > firstKeyframe->frame.timestamp();
+  const bool estimatingVelocity = options_.estimateFrameVelocity && (compensating || firstPair);
+  FrameVelocity velocity;
+  if (estimatingVelocity) velocity = predictedVelocity(compensating);
   double appliedReadoutMs = compensating ? sensorTiming_.rollingShutterMs() : 0.0;
   FeatureSet rawFeatures;
+  if (firstPair) rawFeatures = features;
   if (compensating) {
     rawFeatures = features;
-    sensorTiming_.compensate(features, frame, *lastMotion_, lastMotionMs_);
+    if (estimatingVelocity)
+      sensorTiming_.compensate(features, frame, velocity.compensated);
+    else
+      sensorTiming_.compensate(features, frame, *lastMotion_, lastMotionMs_);
   }
   r.timings.features = msSince(t);
   r.features = features.size();
@@ -99,6 +117,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   auto lostBecause = [&](std::string why) {
     lost_ = true;
     ++framesLost_;
+    lastVelocity_.reset();
     r.status = TrackingStatus::Lost;
     r.lostReason = std::move(why);
     r.timings.total = msSince(start);
@@ -112,7 +131,9 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (!enoughFeatures && !depthOnlyPossible()) return lostBecause(fewFeatures());
 
   if (graph_->keyframeCount() == 0) {
+    if (sensorTiming_.enabled()) firstKeyframe_ = FirstKeyframe{0, frame, features};
     r = initialize(frame, std::move(features), r);
+    if (firstKeyframe_) firstKeyframe_->id = r.keyframeId;
     r.timings.total = msSince(start);
     return r;
   }
@@ -133,12 +154,20 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (!enoughFeatures) r.lostReason = fewFeatures();
   const FeaturePool& pool =
       matchingWholeMap_ ? wholeMapPool(frame.intrinsics(), r) : localMap_.pool();
-  bool registered = enoughFeatures && !startingFromMap &&
-                    registerFrame(pool, frame, features, r, inlierMatches, pose);
+  FrameVelocity* estimated = estimatingVelocity ? &velocity : nullptr;
+  bool registered =
+      enoughFeatures && !startingFromMap &&
+      registerFrame(pool, frame, features, r, inlierMatches, pose, nullptr, estimated);
+  const FeaturePool* registeredPool = &pool;
+  if (registered && firstPair &&
+      registerFirstPair(*firstKeyframe, frame, rawFeatures, features, r, inlierMatches, pose,
+                        estimated)) {
+    registeredPool = &firstPairPool_;
+    appliedReadoutMs = sensorTiming_.rollingShutterMs();
+  }
   if (registered && compensating &&
-      reregisterWithMeasuredMotion(pool, frame, rawFeatures,
-                                   1000.0 * (frame.timestamp() - previousTimestamp), features, r,
-                                   inlierMatches, pose))
+      reregisterWithMeasuredMotion(pool, frame, rawFeatures, intervalMs, features, r, inlierMatches,
+                                   pose, estimated))
     appliedReadoutMs = sensorTiming_.rollingShutterMs();
   if (!registered && enoughFeatures &&
       (startingFromMap ||
@@ -154,9 +183,15 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     // What this frame tells of the camera: its features' noise, and (if the camera moved
     // since a tracked frame) its rolling shutter.
     if (!lost_ && !r.relocalized && frame.timestamp() > previousTimestamp) {
-      rollingShutter_.addFrame(lastInliers_, lastInliersPose_, motionAtFrame(pose),
-                               1000.0 * (frame.timestamp() - previousTimestamp), noise_,
-                               appliedReadoutMs);
+      // The readout is learned against the motion between frames. Points moved with the
+      // frame's own velocity show no rolling shutter left to learn from (velocity and readout
+      // act as one product): the estimator gets them moved with that motion instead.
+      const Pose motion = motionAtFrame(pose);
+      rollingShutter_.addFrame(estimatingVelocity
+                                   ? inlierSamplesMovedWith(frame, rawFeatures, *registeredPool,
+                                                            inlierMatches, motion, intervalMs)
+                                   : lastInliers_,
+                               lastInliersPose_, motion, intervalMs, noise_, appliedReadoutMs);
       sensorTiming_.setRollingShutterMs(rollingShutter_.readoutMs());
     }
     noiseEstimator_.addFrame(lastInliers_, lastInliersPose_);
@@ -168,7 +203,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   // every cell, so the cell count would stay near 1 until the alignment fails).
   std::vector<cv::Point2f> inlierPixels, allPixels;
   std::map<KeyframeId, size_t> inliersPerKeyframe;
-  const FeaturePool& usedPool = r.relocalized ? globalPool_ : pool;
+  const FeaturePool& usedPool = r.relocalized ? globalPool_ : *registeredPool;
   for (const PoolMatch& m : inlierMatches) {
     inlierPixels.push_back(features.keypoints[m.query].pt);
     ++inliersPerKeyframe[usedPool.feature(m.pool).keyframe];
@@ -220,6 +255,9 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     if (r.relocalized) matchingWholeMap_ = localMap_.windowPending();
   }
   lastMotion_ = lost_ ? std::nullopt : std::optional<Pose>(lastPose_.inverse() * pose);
+  lastVelocity_ = estimatingVelocity && !r.depthOnly && !r.relocalized
+                      ? std::optional<Twist>(velocity.estimate)
+                      : std::nullopt;
   lastMotionMs_ = 1000.0 * (frame.timestamp() - previousTimestamp);
   lastPose_ = pose;
   lastReference_ = r.reference;
@@ -290,29 +328,137 @@ Pose Tracker::motionAtFrame(const Pose& pose) const {
   return measured * SensorTiming::interpolate(lastMotion_->inverse() * measured, 0.5);
 }
 
+bool Tracker::registerFirstPair(const FirstKeyframe& first, const RgbdFrame& frame,
+                                const FeatureSet& raw, FeatureSet& features, TrackingResult& r,
+                                std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                                FrameVelocity* velocity) {
+  const double intervalMs = 1000.0 * (frame.timestamp() - first.frame.timestamp());
+  const Pose firstPose = graph_->pose(first.id);
+  bool improved = false;
+  for (int round = 0; round < 2; ++round) {  // the second with the motion the first measured
+    const Pose motion = firstPose.inverse() * pose;  // T_first_this over intervalMs
+    FeatureSet firstPoints = first.raw;
+    sensorTiming_.compensate(firstPoints, first.frame, motion, intervalMs);
+    PointRefinements refined;
+    auto& points = refined[first.id];
+    for (size_t i = 0; i < firstPoints.points.size(); ++i)
+      points.emplace_back(static_cast<uint32_t>(i), firstPoints.points[i]);
+    graph_->setPoses({{first.id, firstPose}}, refined);
+    firstPairPool_ = FeaturePool(options_.pool);
+    firstPairPool_.build(*graph_, {first.id}, pose, frame.intrinsics());
+
+    // This frame: with its own velocity where it was estimated, else the mean motion.
+    FeatureSet again = raw;
+    if (velocity) {
+      velocity->prior = SensorTiming::twist(motion, intervalMs);
+      velocity->priorSigma = predictedVelocity(true).priorSigma;
+      velocity->compensated = velocity->estimate;
+      sensorTiming_.compensate(again, frame, velocity->compensated);
+    } else {
+      sensorTiming_.compensate(again, frame, motion, intervalMs);
+    }
+    if (!registerMoved(firstPairPool_, frame, std::move(again), nullptr, velocity, features, r,
+                       inlierMatches, pose))
+      break;
+    improved = true;
+    if (velocity) {
+      features = raw;
+      sensorTiming_.compensate(features, frame, velocity->estimate);
+    }
+  }
+  poolDirty_ = true;  // the local pool still holds the first keyframe's points as measured
+  return improved;
+}
+
+std::vector<InlierSample> Tracker::inlierSamplesMovedWith(
+    const RgbdFrame& frame, const FeatureSet& raw, const FeaturePool& pool,
+    const std::vector<PoolMatch>& inlierMatches, const Pose& motion, double intervalMs) const {
+  FeatureSet moved = raw;
+  sensorTiming_.compensate(moved, frame, motion, intervalMs);
+  std::vector<InlierSample> samples;
+  samples.reserve(inlierMatches.size());
+  for (const PoolMatch& m : inlierMatches) {
+    const PoolFeature& f = pool.feature(m.pool);
+    samples.push_back({moved.points[m.query], f.pointWorld, f.pointKeyframe.z(),
+                       rowFraction(moved.keypoints[m.query].pt.y, frame.grey().rows)});
+  }
+  return samples;
+}
+
+FrameVelocity Tracker::predictedVelocity(bool fromLastFrames) const {
+  FrameVelocity v;
+  if (fromLastFrames)
+    v.compensated =
+        lastVelocity_ ? *lastVelocity_ : SensorTiming::twist(*lastMotion_, lastMotionMs_);
+  v.prior = v.compensated;
+  v.priorSigma.head<3>().setConstant(options_.velocityPriorSigmaMetres);
+  v.priorSigma.tail<3>().setConstant(options_.velocityPriorSigmaDegrees * M_PI / 180);
+  // Nothing known yet (the frame after the first): a prior as wide as a fast hand's motion.
+  if (!fromLastFrames) v.priorSigma *= kUnknownVelocityFactor;
+  return v;
+}
+
 bool Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
                                            const FeatureSet& raw, double intervalMs,
                                            FeatureSet& features, TrackingResult& r,
-                                           std::vector<PoolMatch>& inlierMatches, Pose& pose) {
-  const Pose atFrame = motionAtFrame(pose);
-  FeatureSet again = raw;
-  sensorTiming_.compensate(again, frame, atFrame, intervalMs);
+                                           std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                                           FrameVelocity* velocity) {
+  const std::vector<PoolMatch> matches = std::move(lastMatches_);
+  bool registered = false;
+  // With the velocity estimated, the points are moved again with each new estimate until it
+  // settles: refinePose only follows them to first order (a slanted surface's depth, read
+  // where the depth camera saw the point, changes faster than that).
+  for (int pass = 0; pass < (velocity ? kVelocityPasses : 1); ++pass) {
+    FeatureSet again = raw;
+    if (velocity) {
+      // Anchored to the poses: the prior is the motion measured since the last frame,
+      // extrapolated to this frame (a prior carried over from frame to frame alone would let
+      // the velocity wander where the timing does not observe it, and the pose with it).
+      velocity->prior = SensorTiming::twist(motionAtFrame(pose), intervalMs);
+      velocity->compensated = velocity->estimate;
+      sensorTiming_.compensate(again, frame, velocity->compensated);
+    } else {
+      sensorTiming_.compensate(again, frame, motionAtFrame(pose), intervalMs);
+    }
+    if (!registerMoved(pool, frame, std::move(again), &matches, velocity, features, r,
+                       inlierMatches, pose))
+      break;
+    registered = true;
+    if (velocity && velocitySettled(*velocity)) break;
+  }
+  return registered;
+}
+
+bool Tracker::registerMoved(const FeaturePool& pool, const RgbdFrame& frame, FeatureSet&& moved,
+                            const std::vector<PoolMatch>* matches, FrameVelocity* velocity,
+                            FeatureSet& features, TrackingResult& r,
+                            std::vector<PoolMatch>& inlierMatches, Pose& pose) {
   TrackingResult second = r;
   std::vector<PoolMatch> secondInliers;
   Pose secondPose;
-  const std::vector<PoolMatch> matches = std::move(lastMatches_);
-  if (!registerFrame(pool, frame, again, second, secondInliers, secondPose, &matches)) return false;
-  r = second;
+  if (!registerFrame(pool, frame, moved, second, secondInliers, secondPose, matches, velocity))
+    return false;
+  r = std::move(second);
   inlierMatches = std::move(secondInliers);
   pose = secondPose;
-  features = std::move(again);
+  features = std::move(moved);
   return true;
+}
+
+bool Tracker::velocitySettled(const FrameVelocity& v) const {
+  // Settled when the change moves no point by more than 0.1 mm (a point 3 m away, seen at the
+  // frame's earliest or latest instant).
+  const double seconds =
+      (sensorTiming_.rollingShutterMs() / 2 + std::abs(options_.sensorTiming.depthTimeOffsetMs)) /
+      1000.0;
+  const Twist change = v.estimate - v.compensated;
+  return (change.head<3>().norm() + 3.0 * change.tail<3>().norm()) * seconds < 1e-4;
 }
 
 bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
                             const FeatureSet& features, TrackingResult& r,
                             std::vector<PoolMatch>& inlierMatches, Pose& pose,
-                            const std::vector<PoolMatch>* knownMatches) {
+                            const std::vector<PoolMatch>* knownMatches, FrameVelocity* velocity) {
   auto t = Clock::now();
   const std::vector<PoolMatch> matches =
       knownMatches ? *knownMatches : pool.match(features.descriptors, options_.ratioThreshold);
@@ -362,9 +508,12 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
         R = keyframeRotations.emplace(f.keyframe, pool.poseAtBuild(f.keyframe)->linear()).first;
       pairs.push_back({src[i], dst[i], noise_.covariance(src[i]),
                        R->second * noise_.covariance(f.pointKeyframe) * R->second.transpose()});
+      if (velocity)
+        pairs.back().velocityJacobian = sensorTiming_.velocityJacobian(
+            src[i], features.keypoints[matches[i].query].pt.y, frame.grey().rows);
     }
     lastDepthTerm_ = depthTermFor(frame, pool, matches, ransac.inliers, lastDepthReference_);
-    pose = refinePose(pose, pairs, {}, lastDepthTerm_ ? &*lastDepthTerm_ : nullptr);
+    pose = refinePose(pose, pairs, {}, lastDepthTerm_ ? &*lastDepthTerm_ : nullptr, velocity);
   }
   // What this registration tells of the features' noise, at the pose in the pool's world.
   std::vector<InlierSample> inlierSamples;
@@ -373,7 +522,7 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   for (size_t i = 0; i < matches.size(); ++i)
     if (ransac.inliers[i])
       inlierSamples.push_back({src[i], dst[i], pool.feature(matches[i].pool).pointKeyframe.z(),
-                               (features.keypoints[matches[i].query].pt.y + 0.5) / rows - 0.5});
+                               rowFraction(features.keypoints[matches[i].query].pt.y, rows)});
   const Pose poseInPool = pose;
   // The pool's world points carry the keyframe poses of its snapshot, which the optimization
   // may have moved since (a pool is handed over frames after it was asked for). The frame is

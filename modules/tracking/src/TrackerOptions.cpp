@@ -79,6 +79,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   sensorTiming.rollingShutterMs = r.readDouble("rolling_shutter_ms", sensorTiming.rollingShutterMs);
   sensorTiming.depthTimeOffsetMs =
       r.readDouble("depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
+  estimateFrameVelocity = r.readBool("estimate_frame_velocity", estimateFrameVelocity);
+  velocityPriorSigmaMetres = r.readDouble("velocity_prior_sigma_m", velocityPriorSigmaMetres);
+  velocityPriorSigmaDegrees = r.readDouble("velocity_prior_sigma_deg", velocityPriorSigmaDegrees);
   depthOnly.minAssociatedFraction =
       r.readDouble("depth_only_min_overlap", depthOnly.minAssociatedFraction);
   depthOnly.maxRmsResidual = r.readDouble("depth_only_max_residual", depthOnly.maxRmsResidual);
@@ -136,6 +139,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
           "rolling_shutter_ms must be in [0, 100]");
   require(std::abs(sensorTiming.depthTimeOffsetMs) <= 100,
           "depth_time_offset_ms must be in [-100, 100]");
+  require(velocityPriorSigmaMetres > 0 && velocityPriorSigmaDegrees > 0,
+          "velocity_prior_sigma_m and velocity_prior_sigma_deg must be > 0");
   require(pool.bruteForceBelow >= 0, "pool_brute_force_below must be >= 0");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
@@ -180,6 +185,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "estimate_rolling_shutter", rollingShutterEstimation.enabled);
   cfg.write(s, "rolling_shutter_ms", sensorTiming.rollingShutterMs);
   cfg.write(s, "depth_time_offset_ms", sensorTiming.depthTimeOffsetMs);
+  cfg.write(s, "estimate_frame_velocity", estimateFrameVelocity);
+  cfg.write(s, "velocity_prior_sigma_m", velocityPriorSigmaMetres);
+  cfg.write(s, "velocity_prior_sigma_deg", velocityPriorSigmaDegrees);
   cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);
   cfg.write(s, "depth_only_max_residual", depthOnly.maxRmsResidual);
   cfg.write(s, "depth_only_min_constraint", depthOnly.minConstraint);

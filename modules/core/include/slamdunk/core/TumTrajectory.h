@@ -3,6 +3,7 @@
 
 #include <slamdunk/core/Pose.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,5 +24,23 @@ Trajectory readTumTrajectory(const std::string& path);
 /// Timestamps with 6 decimals, positions and quaternions with 9 significant digits.
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
                         const std::string& headerComment = {});
+
+/// The same, one pose at a time: a writer of a long session's trajectory (a live checkpoint)
+/// need not hold every pose in memory at once. Nothing replaces `path` before commit().
+class TumTrajectoryWriter {
+ public:
+  TumTrajectoryWriter(const std::string& path, const std::string& headerComment = {});
+  ~TumTrajectoryWriter();
+  TumTrajectoryWriter(const TumTrajectoryWriter&) = delete;
+  TumTrajectoryWriter& operator=(const TumTrajectoryWriter&) = delete;
+  /// Throws std::runtime_error on an invalid (NaN or non-rigid) pose.
+  void add(double timestamp, const Pose& pose);
+  /// Renames the file over `path`. Throws std::runtime_error on a write error.
+  void commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace slamdunk

@@ -93,7 +93,7 @@ class CheckpointWriter {
   std::atomic<size_t> processedAtLast_{0};  ///< processed_ at the last checkpoint
 
   std::mutex writeMutex_;           // one checkpoint at a time (writer thread, writeNow())
-  std::deque<FrameRecord> copied_;  ///< the frame records seen so far (under writeMutex_)
+  SessionLog<FrameRecord> copied_;  ///< the frame records seen so far (under writeMutex_)
 
   mutable std::mutex mutex_;  // guards stopping_ and figures_
   std::condition_variable wake_;

@@ -11,6 +11,7 @@
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <vector>
 
@@ -20,15 +21,19 @@ class FrameLog {
  public:
   void append(const FrameRecord& record);
   /// Moves the records appended since the last call to the end of `out` (the reader's copy).
-  void takeNew(std::deque<FrameRecord>& out);
+  void takeNew(SessionLog<FrameRecord>& out);
 
-  /// The tracked frames' poses through their reference keyframes' poses in `graph` (a frame
-  /// whose keyframe is not in the graph is left out, like a lost one).
-  static Trajectory trajectory(const std::deque<FrameRecord>& records, const KeyframeGraph& graph);
+  /// Hands each tracked frame's pose, through its reference keyframe's pose in `graph`, to
+  /// `visit` (a frame whose keyframe is not in the graph is left out, like a lost one); returns
+  /// how many. One at a time: a long session's trajectory is never held whole a second time.
+  static size_t forEachTrackedPose(const SessionLog<FrameRecord>& records,
+                                   const KeyframeGraph& graph,
+                                   const std::function<void(double, const Pose&)>& visit);
 
  private:
   std::mutex mutex_;
   std::vector<FrameRecord> pending_;  ///< appended since the last takeNew()
+  std::vector<FrameRecord> spare_;    ///< the reader's side of the swap, its capacity kept
 };
 
 }  // namespace slamdunk::live

@@ -82,7 +82,7 @@ class LivePipeline {
   std::condition_variable openChanged_;
   OpenState openState_ = OpenState::Pending;
   std::string error_;
-  std::deque<double> latenciesMs_;  ///< grows by blocks for as long as the session runs
+  SessionLog<double> latenciesMs_;  ///< one per frame, for as long as the session runs
 
   std::thread grabber_, tracker_;
 };

@@ -10,7 +10,9 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <slamdunk/core/SessionLog.h>
 #include <condition_variable>
+
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -37,7 +39,7 @@ struct SlamStatistics {
   /// repeated or backward stamp), and the first few reasons, each naming the frame.
   size_t framesOutOfOrder = 0;
   std::vector<std::string> outOfOrderExamples;
-  std::deque<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
+  SessionLog<StageTimings> stageTimings;  ///< one per processed frame (tracking only)
   std::vector<double> optimizationMs;     ///< one per local optimization
   double maxOptimizationTranslation = 0;  ///< metres: largest pose change by any optimization
   double maxOptimizationRotationDeg = 0;
@@ -69,7 +71,7 @@ class SlamSystem {
   /// Poses of all tracked frames (lost ones are left out), through their reference keyframe.
   Trajectory trajectory() const;
   Trajectory keyframeTrajectory() const;
-  const std::deque<FrameRecord>& frames() const { return frames_; }
+  const SessionLog<FrameRecord>& frames() const { return frames_; }
   SlamStatistics statistics() const;
   const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
   const SlamOptions& options() const { return options_; }
@@ -90,7 +92,7 @@ class SlamSystem {
   /// One record per frame, for as long as the session runs: a deque grows by small blocks, where
   /// a vector would copy itself into one twice its size at every doubling (memory in steps, and
   /// the old block kept by the allocator: the soak test's RSS measure saw both).
-  std::deque<FrameRecord> frames_;
+  SessionLog<FrameRecord> frames_;
   SlamStatistics stats_;
   size_t framesGiven_ = 0;         ///< every call of process(), skipped frames included
   size_t lastProcessedIndex_ = 0;  ///< of the last frame not skipped

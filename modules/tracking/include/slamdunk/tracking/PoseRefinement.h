@@ -13,11 +13,30 @@
 
 namespace slamdunk {
 
+/// A camera's velocity: (v in m/s, ω in rad/s), in its own frame.
+using Twist = Eigen::Matrix<double, 6, 1>;
+
 struct PosePair {
   Eigen::Vector3d source;     ///< in the camera being posed
   Eigen::Vector3d target;     ///< in the world
   Eigen::Matrix3d sourceCov;  ///< in the camera's frame
   Eigen::Matrix3d targetCov;  ///< in the world frame
+  /// How `source` moves with the camera's velocity (d source / d twist): non-zero for a point
+  /// measured off the frame's instant (SensorTiming::velocityJacobian).
+  Eigen::Matrix<double, 3, 6> velocityJacobian = Eigen::Matrix<double, 3, 6>::Zero();
+};
+
+/// The camera's velocity during the frame, estimated with its pose. A rolling shutter exposes
+/// each row at its own time and depth comes at yet another, so each feature's point depends on
+/// how the camera moved during the frame: that makes the velocity observable in one frame,
+/// where a motion model only extrapolates it from earlier frames (a shaking hand reverses
+/// within a few frames). The motion model's prediction is a prior, which also holds the
+/// velocity where the timing alone cannot (a global shutter).
+struct FrameVelocity {
+  Twist compensated = Twist::Zero();  ///< the velocity the sources' points were moved with
+  Twist prior = Twist::Zero();        ///< the motion model's prediction
+  Twist priorSigma = Twist::Ones();   ///< its standard deviation
+  Twist estimate = Twist::Zero();     ///< out: the refined velocity
 };
 
 struct PoseRefinementOptions {
@@ -62,9 +81,11 @@ double depthOverlap(const Pose& T, const DepthAlignmentTerm& d);
 
 /// Returns the refined T (maps source to target), starting from `initial`. With a depth term,
 /// both terms are minimised jointly.
+/// With `velocity`, the camera's velocity is refined jointly (sources move by their
+/// velocityJacobian as it changes) and returned in velocity->estimate.
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
                 const PoseRefinementOptions& options = {},
-                const DepthAlignmentTerm* depth = nullptr);
+                const DepthAlignmentTerm* depth = nullptr, FrameVelocity* velocity = nullptr);
 
 /// Normals of a depth image (CV_32F metres) from a plane fitted to each pixel's window of
 /// ±radius pixels; zero where the window holds too few points or no plane (an edge, a corner).

@@ -11,6 +11,7 @@
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/features/FeatureExtractor.h>
+#include <slamdunk/tracking/PoseRefinement.h>
 
 namespace slamdunk {
 
@@ -35,10 +36,25 @@ class SensorTiming {
   /// them keep their point.
   void compensate(FeatureSet& features, const RgbdFrame& frame, const Pose& motion,
                   double motionMs) const;
+  /// The same with the camera's velocity.
+  void compensate(FeatureSet& features, const RgbdFrame& frame, const Twist& velocity) const {
+    // Any duration serves: 100 ms keeps a turn of up to 1800 deg/s within half a turn.
+    compensate(features, frame, motion(velocity, 100.0), 100.0);
+  }
+
+  /// How a compensated feature point moves when the velocity it was compensated with changes
+  /// (d point / d twist, first order): across its colour ray with its row's time, which chose
+  /// the surface point, and along the ray with the depth image's time, which measured it.
+  /// `row` is the keypoint's image row.
+  Eigen::Matrix<double, 3, 6> velocityJacobian(const Eigen::Vector3d& point, double row,
+                                               double rows) const;
 
   /// The camera's pose `fraction` of `motion`'s duration after the frame's time, relative to it
   /// (constant velocity: rotation angle and translation scaled by `fraction`).
   static Pose interpolate(const Pose& motion, double fraction);
+  /// A motion over `ms` milliseconds as a constant velocity, and back.
+  static Twist twist(const Pose& motion, double ms);
+  static Pose motion(const Twist& velocity, double ms);
 
  private:
   SensorTimingOptions options_;

@@ -92,7 +92,28 @@ class Tracker {
   /// `matches`: the pool matches of these features if already known (else matched here).
   bool registerFrame(const FeaturePool& pool, const RgbdFrame& frame, const FeatureSet& features,
                      TrackingResult& r, std::vector<PoolMatch>& inlierMatches, Pose& pose,
-                     const std::vector<PoolMatch>* matches = nullptr);
+                     const std::vector<PoolMatch>* matches = nullptr,
+                     FrameVelocity* velocity = nullptr);
+  /// The velocity to undo this frame's timing with and its prior: the last frame's estimate
+  /// (or the last motion) if `fromLastFrames`, else zero and a wide prior.
+  FrameVelocity predictedVelocity(bool fromLastFrames) const;
+  static constexpr double kUnknownVelocityFactor = 10;
+  /// Whether the velocity estimate moved the points by no more than a negligible amount from
+  /// those it was compensated with.
+  bool velocitySettled(const FrameVelocity& v) const;
+  /// Registers the frame again with its points moved (`moved`); on success it replaces the
+  /// result, inliers, pose and features (false keeps them).
+  bool registerMoved(const FeaturePool& pool, const RgbdFrame& frame, FeatureSet&& moved,
+                     const std::vector<PoolMatch>* matches, FrameVelocity* velocity,
+                     FeatureSet& features, TrackingResult& r, std::vector<PoolMatch>& inlierMatches,
+                     Pose& pose);
+  /// The registered inliers' samples with the frame's points moved with `motion` over
+  /// `intervalMs` (for the rolling-shutter estimator).
+  std::vector<InlierSample> inlierSamplesMovedWith(const RgbdFrame& frame, const FeatureSet& raw,
+                                                   const FeaturePool& pool,
+                                                   const std::vector<PoolMatch>& inlierMatches,
+                                                   const Pose& motion, double intervalMs) const;
+  static constexpr int kVelocityPasses = 3;
   /// The camera's motion per frame interval at this frame's time (T_before_after), from the
   /// last tracked frame to `pose`.
   Pose motionAtFrame(const Pose& pose) const;
@@ -102,7 +123,22 @@ class Tracker {
   bool reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
                                     const FeatureSet& raw, double intervalMs, FeatureSet& features,
                                     TrackingResult& r, std::vector<PoolMatch>& inlierMatches,
-                                    Pose& pose);
+                                    Pose& pose, FrameVelocity* velocity = nullptr);
+  /// The frame right after the first keyframe, with the sensor timing known: the camera's
+  /// motion is measured only now, so the first keyframe's points are undone for it too (stored
+  /// as its refined points) and the frame registered again, against a pool of that keyframe
+  /// alone (firstPairPool_), twice. False if a re-registration failed (the first result stays).
+  /// The first keyframe as measured (its frame and features before any timing compensation),
+  /// kept until the next frame was processed.
+  struct FirstKeyframe {
+    KeyframeId id = 0;
+    RgbdFrame frame;
+    FeatureSet raw;
+  };
+  bool registerFirstPair(const FirstKeyframe& first, const RgbdFrame& frame, const FeatureSet& raw,
+                         FeatureSet& features, TrackingResult& r,
+                         std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                         FrameVelocity* velocity);
   /// Dense depth term against the keyframe sharing most inliers (empty if it has no depth).
   std::optional<DepthAlignmentTerm> depthTermFor(const RgbdFrame& frame, const FeaturePool& pool,
                                                  const std::vector<PoolMatch>& matches,
@@ -145,10 +181,13 @@ class Tracker {
   KeyframeId lastDepthReference_ = 0;
   Pose lastPose_ = Pose::Identity();
   std::optional<Pose> lastMotion_;      ///< between the last two frames, if both were tracked
+  std::optional<Twist> lastVelocity_;   ///< the last frame's estimated velocity, if any
   double lastMotionMs_ = 0;             ///< the time between those two frames
   std::vector<PoolMatch> lastMatches_;  ///< last frame's pool matches (kept only with SensorTiming)
   double lastTimestamp_ = 0;            ///< of the last frame processed
   SensorTiming sensorTiming_;
+  std::optional<FirstKeyframe> firstKeyframe_;
+  FeaturePool firstPairPool_;
   RollingShutterEstimator rollingShutter_;
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
   cv::Mat fittedNormals_;         ///< of fittedNormalsKeyframe_'s depth, for depth alone

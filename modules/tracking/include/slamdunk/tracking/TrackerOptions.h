@@ -69,6 +69,13 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// Rolling shutter and colour-depth time offset of the camera, undone with the predicted
   /// motion (SensorTiming.h); 0 = every pixel at the frame's time.
   SensorTimingOptions sensorTiming;
+  /// With a rolling shutter or a depth offset: each frame's velocity is estimated with its pose
+  /// (FrameVelocity) and moves its features' points, rather than the motion between frames
+  /// extrapolated. That motion is its prior, give or take these (its own error: the poses'
+  /// jitter over one frame interval, and what the extrapolation misses).
+  bool estimateFrameVelocity = true;
+  double velocityPriorSigmaMetres = 0.03;  ///< m/s
+  double velocityPriorSigmaDegrees = 6;    ///< deg/s
   /// Learn the features' noise from the registered frames ([features] keypoint_*_sigma are the
   /// starting values), see KeypointNoiseEstimator.h.
   KeypointNoiseEstimatorOptions noiseEstimation;
