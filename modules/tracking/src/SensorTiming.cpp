@@ -34,7 +34,7 @@ Eigen::Matrix<double, 3, 6> SensorTiming::velocityJacobian(const Eigen::Vector3d
                                                            double rows) const {
   // The camera at τ seconds from the frame's time is exp(τ ν): a point seen then is, in the
   // frame's camera, p + τ (v + ω × p).
-  const double rowSeconds = ((row + 0.5) / rows - 0.5) * options_.rollingShutterMs / 1000.0;
+  const double rowSeconds = rowFraction(row, rows) * options_.rollingShutterMs / 1000.0;
   const double depthSeconds = options_.depthTimeOffsetMs / 1000.0;
   const Eigen::Vector3d ray = point.normalized();
   const Eigen::Matrix3d alongRay = ray * ray.transpose();
@@ -57,8 +57,8 @@ void SensorTiming::compensate(FeatureSet& features, const RgbdFrame& frame, cons
   for (size_t i = 0; i < features.size(); ++i) {
     const cv::Point2f px = features.keypoints[i].pt;
     // The row's exposure time, as a fraction of a frame period from the frame's (mid-readout).
-    const double rowFraction = ((px.y + 0.5) / rows - 0.5) * options_.rollingShutterMs / motionMs;
-    const Pose frameFromRow = interpolate(motion, rowFraction);
+    const double rowMotion = rowFraction(px.y, rows) * options_.rollingShutterMs / motionMs;
+    const Pose frameFromRow = interpolate(motion, rowMotion);
     const Eigen::Vector2d undistorted = K.undistortPixel(px.x, px.y);
     const Eigen::Vector3d ray = K.backProject(undistorted.x(), undistorted.y(), 1.0);
     // Depth along the colour ray: first guess the one measured at the same pixel, then read it

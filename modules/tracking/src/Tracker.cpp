@@ -14,9 +14,6 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-/// A keypoint's row as a fraction of the image height from its middle (InlierSample).
-double rowFraction(double row, double rows) { return (row + 0.5) / rows - 0.5; }
-
 /// How many of the inlier matches land in each keyframe.
 std::map<KeyframeId, size_t> inlierCountPerKeyframe(const FeaturePool& pool,
                                                     const std::vector<PoolMatch>& matches,
@@ -258,7 +255,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   lastVelocity_ = estimatingVelocity && !r.depthOnly && !r.relocalized
                       ? std::optional<Twist>(velocity.estimate)
                       : std::nullopt;
-  lastMotionMs_ = 1000.0 * (frame.timestamp() - previousTimestamp);
+  lastMotionMs_ = intervalMs;
   lastPose_ = pose;
   lastReference_ = r.reference;
   lost_ = false;
@@ -351,7 +348,7 @@ bool Tracker::registerFirstPair(const FirstKeyframe& first, const RgbdFrame& fra
     FeatureSet again = raw;
     if (velocity) {
       velocity->prior = SensorTiming::twist(motion, intervalMs);
-      velocity->priorSigma = predictedVelocity(true).priorSigma;
+      velocity->priorSigma = velocityPriorSigma(true);
       velocity->compensated = velocity->estimate;
       sensorTiming_.compensate(again, frame, velocity->compensated);
     } else {
@@ -379,8 +376,9 @@ std::vector<InlierSample> Tracker::inlierSamplesMovedWith(
   samples.reserve(inlierMatches.size());
   for (const PoolMatch& m : inlierMatches) {
     const PoolFeature& f = pool.feature(m.pool);
-    samples.push_back({moved.points[m.query], f.pointWorld, f.pointKeyframe.z(),
-                       rowFraction(moved.keypoints[m.query].pt.y, frame.grey().rows)});
+    samples.push_back(
+        {moved.points[m.query], f.pointWorld, f.pointKeyframe.z(),
+         SensorTiming::rowFraction(moved.keypoints[m.query].pt.y, frame.grey().rows)});
   }
   return samples;
 }
@@ -391,11 +389,16 @@ FrameVelocity Tracker::predictedVelocity(bool fromLastFrames) const {
     v.compensated =
         lastVelocity_ ? *lastVelocity_ : SensorTiming::twist(*lastMotion_, lastMotionMs_);
   v.prior = v.compensated;
-  v.priorSigma.head<3>().setConstant(options_.velocityPriorSigmaMetres);
-  v.priorSigma.tail<3>().setConstant(options_.velocityPriorSigmaDegrees * M_PI / 180);
-  // Nothing known yet (the frame after the first): a prior as wide as a fast hand's motion.
-  if (!fromLastFrames) v.priorSigma *= kUnknownVelocityFactor;
+  v.priorSigma = velocityPriorSigma(fromLastFrames);
   return v;
+}
+
+Twist Tracker::velocityPriorSigma(bool fromLastFrames) const {
+  Twist sigma;
+  sigma.head<3>().setConstant(options_.velocityPriorSigmaMetres);
+  sigma.tail<3>().setConstant(options_.velocityPriorSigmaDegrees * M_PI / 180);
+  // Nothing known yet (the frame after the first): a prior as wide as a fast hand's motion.
+  return fromLastFrames ? sigma : Twist(sigma * kUnknownVelocityFactor);
 }
 
 bool Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,
@@ -449,8 +452,7 @@ bool Tracker::velocitySettled(const FrameVelocity& v) const {
   // Settled when the change moves no point by more than 0.1 mm (a point 3 m away, seen at the
   // frame's earliest or latest instant).
   const double seconds =
-      (sensorTiming_.rollingShutterMs() / 2 + std::abs(options_.sensorTiming.depthTimeOffsetMs)) /
-      1000.0;
+      (sensorTiming_.rollingShutterMs() / 2 + std::abs(sensorTiming_.depthTimeOffsetMs())) / 1000.0;
   const Twist change = v.estimate - v.compensated;
   return (change.head<3>().norm() + 3.0 * change.tail<3>().norm()) * seconds < 1e-4;
 }
@@ -521,8 +523,9 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   const double rows = frame.grey().rows;
   for (size_t i = 0; i < matches.size(); ++i)
     if (ransac.inliers[i])
-      inlierSamples.push_back({src[i], dst[i], pool.feature(matches[i].pool).pointKeyframe.z(),
-                               rowFraction(features.keypoints[matches[i].query].pt.y, rows)});
+      inlierSamples.push_back(
+          {src[i], dst[i], pool.feature(matches[i].pool).pointKeyframe.z(),
+           SensorTiming::rowFraction(features.keypoints[matches[i].query].pt.y, rows)});
   const Pose poseInPool = pose;
   // The pool's world points carry the keyframe poses of its snapshot, which the optimization
   // may have moved since (a pool is handed over frames after it was asked for). The frame is

@@ -27,6 +27,10 @@ class SensorTiming {
   explicit SensorTiming(const SensorTimingOptions& options) : options_(options) {}
   bool enabled() const { return options_.any(); }
   double rollingShutterMs() const { return options_.rollingShutterMs; }
+  double depthTimeOffsetMs() const { return options_.depthTimeOffsetMs; }
+  /// A keypoint's row as a fraction of the image height from its middle (-0.5 top, 0.5
+  /// bottom): when a rolling shutter exposed it, in readouts from the frame's time.
+  static double rowFraction(double row, double rows) { return (row + 0.5) / rows - 0.5; }
   /// A new readout time (RollingShutterEstimator learns it as frames come).
   void setRollingShutterMs(double ms) { options_.rollingShutterMs = ms; }
 

@@ -97,6 +97,8 @@ class Tracker {
   /// The velocity to undo this frame's timing with and its prior: the last frame's estimate
   /// (or the last motion) if `fromLastFrames`, else zero and a wide prior.
   FrameVelocity predictedVelocity(bool fromLastFrames) const;
+  /// The prior's standard deviation: the INI's, or kUnknownVelocityFactor times it.
+  Twist velocityPriorSigma(bool fromLastFrames) const;
   static constexpr double kUnknownVelocityFactor = 10;
   /// Whether the velocity estimate moved the points by no more than a negligible amount from
   /// those it was compensated with.
