@@ -7,22 +7,20 @@
 # frame log, then prints:
 #   - the RSS slope after warm-up (least squares over the samples from one minute after the last
 #     new keyframe, and from a tenth of the run at the earliest: memory settles for a minute or
-#     so after the map stops growing, the last optimizations and pool windows), in MB per hour,
-#     next to what the per-frame records alone add: the pose kept for the output trajectory
-#     (144 B), the checkpoint writer's copy of it (144 B: each checkpoint writes every frame's
-#     pose through the keyframes' current poses), the timing sample (48 B) and the latency
-#     sample (8 B) of every frame, 344 B at 30 frames/s = 37.2 MB per hour, kept because every
-#     frame's pose is written at the end and in each checkpoint; the rest is what the map and
-#     everything else add;
+#     so after the map stops growing, the last optimizations and pool windows), in MB per hour.
+#     Every frame leaves records for the session (its pose relative to its keyframe for the
+#     trajectory and the checkpoints, its timing, its latency: 144 + 144 + 48 + 8 B); they are
+#     SessionLogs, whose entries beyond the newest chunk live in a temporary file, so they add
+#     nothing that grows: the whole slope is what the session's memory does;
 #   - frames, keyframes added, latency p50 / p95 / max per time block;
-#   - whether memory is flat (the rest within +-SOAK_RSS_TOLERANCE MB/h, 5 by default) and latency
+#   - whether memory is flat (the slope within +-SOAK_RSS_TOLERANCE MB/h, 5 by default) and latency
 #     steady (every block's p95 after warm-up within 1.3 x the lowest + 2 ms), and the latency's
 #     trend in ms per hour (a machine shared with other work makes block p95s jump).
 #   scripts/soak.sh                 30 minutes, blocks of 5 minutes
 #   scripts/soak.sh 5 1             5 minutes, blocks of 1 minute (a quick check)
 #   SOAK_NICE=5 scripts/soak.sh     the app at lower priority (a shared machine)
 #   SOAK_RAWLOG=x.rawlog scripts/soak.sh   another recording (it should end where it begins)
-#   SOAK_CHECKPOINTS=0 scripts/soak.sh      checkpoints off (per-frame records then 200 B)
+#   SOAK_CHECKPOINTS=0 scripts/soak.sh      checkpoints off
 #   SOAK_WORK=DIR scripts/soak.sh           outputs in DIR (default build/soak)
 #   scripts/soak.sh --analyse [BLOCK]      the figures of the last run again (build/soak)
 # Outputs stay in build/soak/: frames.csv (per frame), rss.csv (per sample), summary.json, log.
@@ -37,10 +35,7 @@ tolerance=${SOAK_RSS_TOLERANCE:-5}
 bin=build/bin
 work=${SOAK_WORK:-build/soak}
 mkdir -p "$work"
-# Checkpoints on (the live default) keep a second copy of every frame's record (see above).
 checkpoints=${SOAK_CHECKPOINTS:-1}
-recordBytes=344
-[ "$checkpoints" = 0 ] && recordBytes=200
 run() {  # the soak itself: the app replaying, RSS sampled, stopped by SIGINT
   for tool in slamdunk-live synthetic-rgbd; do
     [ -x "$bin/$tool" ] || { echo "soak: $bin/$tool not built (run scripts/build.sh)" >&2; exit 1; }
@@ -101,18 +96,16 @@ warmup=$(awk -v k="$lastkf" -v d="$duration" 'BEGIN { w = k + 60; if (w < d / 10
 echo "warm-up: the last keyframe was added at ${lastkf} s, memory measured from ${warmup} s; $fps frames/s processed over $duration s"
 
 # RSS: least-squares slope over the samples after warm-up.
-awk -F, -v w="$warmup" -v fps="$fps" -v tol="$tolerance" -v bytes="$recordBytes" '
+awk -F, -v w="$warmup" -v tol="$tolerance" '
   NR > 1 && $1 >= w { n++; sx += $1; sy += $2; sxx += $1 * $1; sxy += $1 * $2
                       if (n == 1) first = $2; last = $2 }
   END {
     if (n < 3) { print "RSS: fewer than 3 samples after warm-up: run longer"; exit }
     slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)           # KiB per second
     mbh = slope * 3600 * 1024 / 1e6
-    records = bytes * fps * 3600 / 1e6                            # MB per hour
-    rest = mbh - records
-    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %.1f MB/h, of which per-frame records %.1f MB/h (%d B x %.1f frames/s), the rest %+.1f MB/h: %s\n",
-      first / 1024, last / 1024, n, mbh, records, bytes, fps, rest,
-      (rest <= tol && rest >= -tol) ? "FLAT" : "NOT FLAT (beyond +-" tol " MB/h)"
+    printf "RSS after warm-up: %.1f -> %.1f MiB over %d samples; slope %+.1f MB/h: %s\n",
+      first / 1024, last / 1024, n, mbh,
+      (mbh <= tol && mbh >= -tol) ? "FLAT" : "NOT FLAT (beyond +-" tol " MB/h)"
   }' "$work/rss.csv"
 
 # Latency per block of `block` minutes of grab time.

@@ -19,7 +19,7 @@ void printLiveSummary(const LiveFigures& fig, bool json) {
   const LiveResult& f = fig.result;
   const LiveCounters& c = f.counters;
   std::vector<double> trackingMs;
-  for (const auto& t : f.stats.stageTimings) trackingMs.push_back(t.total);
+  f.stats.stageTimings.forEach([&](const StageTimings& t) { trackingMs.push_back(t.total); });
   const std::optional<CheckpointFigures>& cp = f.checkpoints;
   if (json) {
     std::printf(

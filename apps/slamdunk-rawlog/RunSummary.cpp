@@ -31,7 +31,7 @@ double perKeyframeKiB(const GraphMemory& m, size_t bytes) {
 template <class F>
 std::vector<double> column(const SessionLog<StageTimings>& t, F f) {
   std::vector<double> out;
-  for (const auto& s : t) out.push_back(f(s));
+  t.forEach([&](const StageTimings& s) { out.push_back(f(s)); });
   return out;
 }
 }  // namespace

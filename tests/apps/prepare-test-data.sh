@@ -36,8 +36,12 @@ synthetic synthetic_sweep sweep
 synthetic synthetic_loop_kinect loop --kinect-depth
 # Hand-held motion through a hand-held camera (blur, rolling shutter, auto exposure, depth offset;
 # the exposure averages several renders, which also smooths edges: no supersampling needed).
-for t in rotations shake; do
-  synthetic handheld_$t $t --hand-held --supersampling 1
-  synthetic handheld_${t}_kinect $t --hand-held --supersampling 1 --kinect-depth
+# The 2.5-minute scan (4500 frames, about 7 minutes each to render) keeps its images beside the
+# rawlog, which then stays small enough to read quickly.
+for t in rotations shake scan; do
+  images=()
+  [ "$t" = scan ] && images=(--external-images)
+  synthetic handheld_$t $t --hand-held --supersampling 1 "${images[@]}"
+  synthetic handheld_${t}_kinect $t --hand-held --supersampling 1 --kinect-depth "${images[@]}"
 done
 ls -l "$out"

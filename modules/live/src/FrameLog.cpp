@@ -23,13 +23,13 @@ size_t FrameLog::forEachTrackedPose(const SessionLog<FrameRecord>& records,
                                     const std::function<void(double, const Pose&)>& visit) {
   const auto poses = graph.poses();
   size_t tracked = 0;
-  for (const FrameRecord& f : records) {
-    if (f.status == TrackingStatus::Lost) continue;
+  records.forEach([&](const FrameRecord& f) {
+    if (f.status == TrackingStatus::Lost) return;
     const auto it = poses.find(f.reference);
-    if (it == poses.end()) continue;
+    if (it == poses.end()) return;
     visit(f.timestamp, it->second * f.poseInReference);
     ++tracked;
-  }
+  });
   return tracked;
 }
 

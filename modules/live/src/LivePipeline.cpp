@@ -122,7 +122,7 @@ LiveCounters LivePipeline::counters() const {
 
 std::vector<double> LivePipeline::latenciesMs() const {
   std::lock_guard lock(mutex_);
-  return {latenciesMs_.begin(), latenciesMs_.end()};
+  return latenciesMs_.toVector();
 }
 
 std::string LivePipeline::error() const {

@@ -172,10 +172,10 @@ void SlamSystem::finish() {
 Trajectory SlamSystem::trajectory() const {
   const auto poses = graph_->poses();
   Trajectory out;
-  for (const FrameRecord& f : frames_) {
-    if (f.status == TrackingStatus::Lost) continue;
-    out.push_back({f.timestamp, poses.at(f.reference) * f.poseInReference});
-  }
+  frames_.forEach([&](const FrameRecord& f) {
+    if (f.status != TrackingStatus::Lost)
+      out.push_back({f.timestamp, poses.at(f.reference) * f.poseInReference});
+  });
   return out;
 }
 

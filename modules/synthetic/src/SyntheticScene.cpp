@@ -2,6 +2,7 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/opengl/CSetOfTexturedTriangles.h>
 
 #include <opencv2/imgproc.hpp>
@@ -15,6 +16,21 @@ namespace slamdunk {
 namespace {
 
 using mrpt::math::TPoint3Df;
+
+/// A set whose members are always drawn, never culled. MRPT 2.5 culls an object when none of its
+/// bounding box's corners projects into the view, unless the corners lie in quadrants its table
+/// pairs as "crossing the view". That table misses some pairs, so a large wall or floor seen from
+/// inside the room, with every corner outside the view, is sometimes dropped whole: the scan's
+/// frames 1099-1103 lost most of their walls and floor that way. A room's surfaces are few; the
+/// GPU's own clipping is exact, so drawing them all costs little and is always right.
+class UnculledSetOfObjects : public mrpt::opengl::CSetOfObjects {
+ public:
+  void enqueueForRenderRecursive(const mrpt::opengl::TRenderMatrices& state,
+                                 mrpt::opengl::RenderQueue& rq,
+                                 [[maybe_unused]] bool wholeInView) const override {
+    mrpt::opengl::CSetOfObjects::enqueueForRenderRecursive(state, rq, /*wholeInView=*/true);
+  }
+};
 
 // Every random draw is a statement of its own (or inside a braced list, which is evaluated left
 // to right): C++ leaves the order of function arguments unspecified, and the textures must not
@@ -122,7 +138,7 @@ int texelsFor(double length, double metresPerTexel) {
 constexpr double kTexelMetres = 0.0035;
 constexpr double kCeilingTexelMetres = 2 * kTexelMetres;
 
-void addBox(mrpt::opengl::COpenGLScene& scene, const RoomBox& box, const cv::Mat& atlas) {
+void addBox(mrpt::opengl::CSetOfObjects& scene, const RoomBox& box, const cv::Mat& atlas) {
   // Texture atlas of 3 x 2 cells, one per visible face (the bottom one is never seen).
   auto obj = texturedObject(atlas);
   const double c = std::cos(box.yawDeg * M_PI / 180), s = std::sin(box.yawDeg * M_PI / 180);
@@ -200,8 +216,10 @@ SyntheticScene::SyntheticScene(unsigned seed, bool withCeiling)
 
 SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
     : plan_(std::move(plan)), scene_(mrpt::opengl::COpenGLScene::Create()) {
-  auto& scene = *scene_;
-  scene.getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(0, 0, 0));
+  scene_->getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(0, 0, 0));
+  auto surfaces = std::make_shared<UnculledSetOfObjects>();
+  scene_->insert(surfaces);
+  auto& scene = *surfaces;
   uint64_t textureId = uint64_t(seed) << 16;  // one texture seed per surface
 
   const float yf = float(plan_.floorY), yc = float(plan_.ceilingY);

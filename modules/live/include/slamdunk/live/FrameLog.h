@@ -3,14 +3,13 @@
 // the tracking thread to the checkpoint writer. A record costs the tracking thread one short
 // lock; the writer takes the records appended since its last checkpoint and keeps the only
 // copy of them (SlamSystem keeps its own, for its own thread): the log itself holds one
-// checkpoint interval's records at most, so a long session keeps each record twice, not three
-// times (a 30-minute soak: 57.6 MB an hour with the third copy, 44.6 without).
+// checkpoint interval's records at most. Both copies are SessionLogs, whose older entries live
+// in a temporary file: a long session's memory does not grow with its frames.
 
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/slam/SlamSystem.h>
 
-#include <deque>
 #include <functional>
 #include <mutex>
 #include <vector>

@@ -11,9 +11,10 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
 #include <slamdunk/core/SessionLog.h>
-#include <condition_variable>
 
-#include <deque>
+#include <condition_variable>
+#include <cstring>
+
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -28,6 +29,31 @@ struct FrameRecord {
   TrackingStatus status = TrackingStatus::Lost;
   KeyframeId reference = 0;
   Pose poseInReference = Pose::Identity();
+};
+
+/// A frame record in a SessionLog's file: the stamp, the status, the keyframe and the pose's
+/// 3 x 4 matrix, bit for bit (a trajectory written from the file is the one in memory).
+template <>
+struct SessionLogCodec<FrameRecord> {
+  static constexpr size_t kPoseBytes = 12 * sizeof(double);
+  static constexpr size_t kBytes = sizeof(double) + 1 + sizeof(KeyframeId) + kPoseBytes;
+  static void encode(const FrameRecord& r, unsigned char* out) {
+    std::memcpy(out, &r.timestamp, sizeof(double));
+    out[sizeof(double)] = static_cast<unsigned char>(r.status);
+    std::memcpy(out + sizeof(double) + 1, &r.reference, sizeof(KeyframeId));
+    const Eigen::Matrix<double, 3, 4> m = r.poseInReference.matrix().topRows<3>();
+    std::memcpy(out + sizeof(double) + 1 + sizeof(KeyframeId), m.data(), kPoseBytes);
+  }
+  static FrameRecord decode(const unsigned char* in) {
+    FrameRecord r;
+    std::memcpy(&r.timestamp, in, sizeof(double));
+    r.status = static_cast<TrackingStatus>(in[sizeof(double)]);
+    std::memcpy(&r.reference, in + sizeof(double) + 1, sizeof(KeyframeId));
+    Eigen::Matrix<double, 3, 4> m;
+    std::memcpy(m.data(), in + sizeof(double) + 1 + sizeof(KeyframeId), kPoseBytes);
+    r.poseInReference.matrix().topRows<3>() = m;
+    return r;
+  }
 };
 
 struct SlamStatistics {
@@ -89,9 +115,8 @@ class SlamSystem {
   SlamOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
   Tracker tracker_;
-  /// One record per frame, for as long as the session runs: a deque grows by small blocks, where
-  /// a vector would copy itself into one twice its size at every doubling (memory in steps, and
-  /// the old block kept by the allocator: the soak test's RSS measure saw both).
+  /// One record per frame, for as long as the session runs (the newest in memory, the rest in
+  /// the log's temporary file: constant memory however long the session).
   SessionLog<FrameRecord> frames_;
   SlamStatistics stats_;
   size_t framesGiven_ = 0;         ///< every call of process(), skipped frames included
