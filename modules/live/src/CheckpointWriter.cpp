@@ -234,7 +234,7 @@ void CheckpointWriter::write() {
     // grew with the session (144 B a frame, 8 MB after 30 minutes) and made the allocator keep
     // ever larger free blocks.
     TumTrajectoryWriter trajectory((dir / kTrajectoryFile).string(), what + ": tracked frames");
-    info.framesTracked = FrameLog::forEachTrackedPose(
+    info.framesTracked = forEachTrackedPose(
         copied_, *graph, [&](double t, const Pose& pose) { trajectory.add(t, pose); });
     trajectory.commit();
     writeTumTrajectory((dir / kKeyframesFile).string(), keyframes, what + ": keyframes");

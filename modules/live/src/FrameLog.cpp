@@ -18,19 +18,4 @@ void FrameLog::takeNew(SessionLog<FrameRecord>& out) {
   spare_.clear();
 }
 
-size_t FrameLog::forEachTrackedPose(const SessionLog<FrameRecord>& records,
-                                    const KeyframeGraph& graph,
-                                    const std::function<void(double, const Pose&)>& visit) {
-  const auto poses = graph.poses();
-  size_t tracked = 0;
-  records.forEach([&](const FrameRecord& f) {
-    if (f.status == TrackingStatus::Lost) return;
-    const auto it = poses.find(f.reference);
-    if (it == poses.end()) return;
-    visit(f.timestamp, it->second * f.poseInReference);
-    ++tracked;
-  });
-  return tracked;
-}
-
 }  // namespace slamdunk::live

@@ -169,12 +169,24 @@ void SlamSystem::finish() {
   }
 }
 
+size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,
+                          const std::function<void(double, const Pose&)>& visit) {
+  const auto poses = graph.poses();
+  size_t tracked = 0;
+  records.forEach([&](const FrameRecord& f) {
+    if (f.status == TrackingStatus::Lost) return;
+    const auto it = poses.find(f.reference);
+    if (it == poses.end()) return;
+    visit(f.timestamp, it->second * f.poseInReference);
+    ++tracked;
+  });
+  return tracked;
+}
+
 Trajectory SlamSystem::trajectory() const {
-  const auto poses = graph_->poses();
   Trajectory out;
-  frames_.forEach([&](const FrameRecord& f) {
-    if (f.status != TrackingStatus::Lost)
-      out.push_back({f.timestamp, poses.at(f.reference) * f.poseInReference});
+  forEachTrackedPose(frames_, *graph_, [&](double t, const Pose& pose) {
+    out.push_back({t, pose});
   });
   return out;
 }

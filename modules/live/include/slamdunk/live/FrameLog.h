@@ -6,11 +6,8 @@
 // checkpoint interval's records at most. Both copies are SessionLogs, whose older entries live
 // in a temporary file: a long session's memory does not grow with its frames.
 
-#include <slamdunk/core/TumTrajectory.h>
-#include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/slam/SlamSystem.h>
 
-#include <functional>
 #include <mutex>
 #include <vector>
 
@@ -21,13 +18,6 @@ class FrameLog {
   void append(const FrameRecord& record);
   /// Moves the records appended since the last call to the end of `out` (the reader's copy).
   void takeNew(SessionLog<FrameRecord>& out);
-
-  /// Hands each tracked frame's pose, through its reference keyframe's pose in `graph`, to
-  /// `visit` (a frame whose keyframe is not in the graph is left out, like a lost one); returns
-  /// how many. One at a time: a long session's trajectory is never held whole a second time.
-  static size_t forEachTrackedPose(const SessionLog<FrameRecord>& records,
-                                   const KeyframeGraph& graph,
-                                   const std::function<void(double, const Pose&)>& visit);
 
  private:
   std::mutex mutex_;

@@ -3,6 +3,7 @@
 // in its own thread), and every frame's pose kept relative to its reference keyframe so that
 // optimization moves the whole trajectory.
 
+#include <slamdunk/core/SessionLog.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/optimization/LocalOptimizer.h>
 #include <slamdunk/slam/SlamOptions.h>
@@ -10,11 +11,9 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
-#include <slamdunk/core/SessionLog.h>
-
 #include <condition_variable>
 #include <cstring>
-
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -35,26 +34,34 @@ struct FrameRecord {
 /// 3 x 4 matrix, bit for bit (a trajectory written from the file is the one in memory).
 template <>
 struct SessionLogCodec<FrameRecord> {
-  static constexpr size_t kPoseBytes = 12 * sizeof(double);
-  static constexpr size_t kBytes = sizeof(double) + 1 + sizeof(KeyframeId) + kPoseBytes;
+  static constexpr size_t kStatusAt = sizeof(double);
+  static constexpr size_t kReferenceAt = kStatusAt + 1;
+  static constexpr size_t kPoseAt = kReferenceAt + sizeof(KeyframeId);
+  static constexpr size_t kBytes = kPoseAt + 12 * sizeof(double);
   static void encode(const FrameRecord& r, unsigned char* out) {
     std::memcpy(out, &r.timestamp, sizeof(double));
-    out[sizeof(double)] = static_cast<unsigned char>(r.status);
-    std::memcpy(out + sizeof(double) + 1, &r.reference, sizeof(KeyframeId));
+    out[kStatusAt] = static_cast<unsigned char>(r.status);
+    std::memcpy(out + kReferenceAt, &r.reference, sizeof(KeyframeId));
     const Eigen::Matrix<double, 3, 4> m = r.poseInReference.matrix().topRows<3>();
-    std::memcpy(out + sizeof(double) + 1 + sizeof(KeyframeId), m.data(), kPoseBytes);
+    std::memcpy(out + kPoseAt, m.data(), kBytes - kPoseAt);
   }
   static FrameRecord decode(const unsigned char* in) {
     FrameRecord r;
     std::memcpy(&r.timestamp, in, sizeof(double));
-    r.status = static_cast<TrackingStatus>(in[sizeof(double)]);
-    std::memcpy(&r.reference, in + sizeof(double) + 1, sizeof(KeyframeId));
+    r.status = static_cast<TrackingStatus>(in[kStatusAt]);
+    std::memcpy(&r.reference, in + kReferenceAt, sizeof(KeyframeId));
     Eigen::Matrix<double, 3, 4> m;
-    std::memcpy(m.data(), in + sizeof(double) + 1 + sizeof(KeyframeId), kPoseBytes);
+    std::memcpy(m.data(), in + kPoseAt, kBytes - kPoseAt);
     r.poseInReference.matrix().topRows<3>() = m;
     return r;
   }
 };
+
+/// Hands each tracked frame's pose, through its reference keyframe's pose in `graph`, to
+/// `visit` (a frame whose keyframe is not in the graph is left out, like a lost one); returns
+/// how many. One at a time: a long session's trajectory is never held whole a second time.
+size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,
+                          const std::function<void(double, const Pose&)>& visit);
 
 struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
