@@ -68,7 +68,7 @@ built=$SECONDS
 # renderer effect; the converter on fr3_cabinet_58kf and on damaged folders; all unit tests
 # and the fuzzers. `--all` runs these too.
 long_runs=(
-  'SlamdunkRawlog\.(SevenScenes|TumFr1Xyz|TwoRuns|SyntheticSweep|SyntheticLoop(Optimization|Scale|With|Lights))'
+  'SlamdunkRawlog\.(SevenScenes|TumFr1Xyz|HandHeldScan|TwoRuns|SyntheticSweep|SyntheticLoop(Optimization|Scale|With|Lights))'
   'SlamdunkRawlogThreads\.' 'SlamdunkRawlogMaps\.Relocalizes' 'Synthetic/HandHeld\.'
   'SlamdunkLive\.(RealTime|DoubleSpeed)' 'test_dense_7scenes'
   'LocalOptimizer\.TimingOnRealisticLocalProblems' 'SlamDunkMapBuilder\.MatchesSlamSystem'

@@ -28,6 +28,8 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   a.ransac.seed = 99;
   a.keyframes.gridCols = 6;
   a.keypointScaleSigma = 0.25;
+  a.adaptiveVelocityPrior = false;
+  a.velocityPriorMinSigmaDegrees = 2.5;
   mrpt::config::CConfigFileMemory mem;
   a.saveToConfigFile(mem, "tracker");
   TrackerOptions b;
@@ -36,6 +38,8 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   EXPECT_EQ(b.ransac.seed, 99u);
   EXPECT_EQ(b.keyframes.gridCols, 6);
   EXPECT_DOUBLE_EQ(b.keypointScaleSigma, 0.25);
+  EXPECT_FALSE(b.adaptiveVelocityPrior);
+  EXPECT_DOUBLE_EQ(b.velocityPriorMinSigmaDegrees, 2.5);
 
   mrpt::config::CConfigFileMemory typo("[tracker]\nwindow_sise = 4\n");
   EXPECT_THROW(b.loadFromConfigFile(typo, "tracker"), std::invalid_argument);
@@ -43,4 +47,8 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   EXPECT_THROW(b.loadFromConfigFile(bad, "tracker"), std::invalid_argument);
   mrpt::config::CConfigFileMemory negative("[tracker]\nkeypoint_scale_sigma = -0.1\n");
   EXPECT_THROW(b.loadFromConfigFile(negative, "tracker"), std::invalid_argument);
+  // The narrowest prior may not be wider than the widest.
+  mrpt::config::CConfigFileMemory inverted(
+      "[tracker]\nvelocity_prior_sigma_deg = 6\nvelocity_prior_min_sigma_deg = 8\n");
+  EXPECT_THROW(b.loadFromConfigFile(inverted, "tracker"), std::invalid_argument);
 }

@@ -251,6 +251,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     }
     if (r.relocalized) matchingWholeMap_ = localMap_.windowPending();
   }
+  measureMotionModel(pose, intervalMs,
+                     !lost_ && estimatingVelocity && !r.depthOnly && !r.relocalized);
   lastMotion_ = lost_ ? std::nullopt : std::optional<Pose>(lastPose_.inverse() * pose);
   lastVelocity_ = estimatingVelocity && !r.depthOnly && !r.relocalized
                       ? std::optional<Twist>(velocity.estimate)
@@ -394,11 +396,36 @@ FrameVelocity Tracker::predictedVelocity(bool fromLastFrames) const {
 }
 
 Twist Tracker::velocityPriorSigma(bool fromLastFrames) const {
-  Twist sigma;
-  sigma.head<3>().setConstant(options_.velocityPriorSigmaMetres);
-  sigma.tail<3>().setConstant(options_.velocityPriorSigmaDegrees * M_PI / 180);
+  constexpr double kRadians = M_PI / 180;
+  Twist widest;
+  widest.head<3>().setConstant(options_.velocityPriorSigmaMetres);
+  widest.tail<3>().setConstant(options_.velocityPriorSigmaDegrees * kRadians);
   // Nothing known yet (the frame after the first): a prior as wide as a fast hand's motion.
-  return fromLastFrames ? sigma : Twist(sigma * kUnknownVelocityFactor);
+  if (!fromLastFrames) return widest * kUnknownVelocityFactor;
+  const std::optional<Twist> measured =
+      options_.adaptiveVelocityPrior ? motionModelError_.sigma() : std::nullopt;
+  if (!measured) return widest;
+  Twist narrowest;
+  narrowest.head<3>().setConstant(options_.velocityPriorMinSigmaMetres);
+  narrowest.tail<3>().setConstant(options_.velocityPriorMinSigmaDegrees * kRadians);
+  return measured->cwiseMax(narrowest).cwiseMin(widest);
+}
+
+void Tracker::measureMotionModel(const Pose& pose, double intervalMs, bool consecutive) {
+  if (!consecutive) {
+    lastPrediction_.reset();
+    return;
+  }
+  if (lastPrediction_) {
+    // The velocity at the last frame, from the poses on either side of it: the mean of the two
+    // intervals' motions (second-order accurate at that frame, unlike the extrapolation).
+    const Twist before = SensorTiming::twist(lastPrediction_->poseBefore.inverse() * lastPose_,
+                                             lastPrediction_->msBefore);
+    const Twist after = SensorTiming::twist(lastPose_.inverse() * pose, intervalMs);
+    motionModelError_.add(lastPrediction_->predicted, Twist(0.5 * (before + after)));
+  }
+  lastPrediction_ = VelocityPrediction{SensorTiming::twist(motionAtFrame(pose), intervalMs),
+                                       lastPose_, intervalMs};
 }
 
 bool Tracker::reregisterWithMeasuredMotion(const FeaturePool& pool, const RgbdFrame& frame,

@@ -82,6 +82,11 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   estimateFrameVelocity = r.readBool("estimate_frame_velocity", estimateFrameVelocity);
   velocityPriorSigmaMetres = r.readDouble("velocity_prior_sigma_m", velocityPriorSigmaMetres);
   velocityPriorSigmaDegrees = r.readDouble("velocity_prior_sigma_deg", velocityPriorSigmaDegrees);
+  adaptiveVelocityPrior = r.readBool("velocity_prior_adaptive", adaptiveVelocityPrior);
+  velocityPriorMinSigmaMetres =
+      r.readDouble("velocity_prior_min_sigma_m", velocityPriorMinSigmaMetres);
+  velocityPriorMinSigmaDegrees =
+      r.readDouble("velocity_prior_min_sigma_deg", velocityPriorMinSigmaDegrees);
   depthOnly.minAssociatedFraction =
       r.readDouble("depth_only_min_overlap", depthOnly.minAssociatedFraction);
   depthOnly.maxRmsResidual = r.readDouble("depth_only_max_residual", depthOnly.maxRmsResidual);
@@ -141,6 +146,11 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
           "depth_time_offset_ms must be in [-100, 100]");
   require(velocityPriorSigmaMetres > 0 && velocityPriorSigmaDegrees > 0,
           "velocity_prior_sigma_m and velocity_prior_sigma_deg must be > 0");
+  require(velocityPriorMinSigmaMetres > 0 && velocityPriorMinSigmaDegrees > 0,
+          "velocity_prior_min_sigma_m and velocity_prior_min_sigma_deg must be > 0");
+  require(velocityPriorMinSigmaMetres <= velocityPriorSigmaMetres &&
+              velocityPriorMinSigmaDegrees <= velocityPriorSigmaDegrees,
+          "velocity_prior_min_sigma_m/_deg must not exceed velocity_prior_sigma_m/_deg");
   require(pool.bruteForceBelow >= 0, "pool_brute_force_below must be >= 0");
   require(ransac.inlierThreshold > 0, "ransac_threshold must be > 0");
   require(ransac.confidence > 0 && ransac.confidence < 1, "ransac_confidence must be in (0, 1)");
@@ -188,6 +198,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   cfg.write(s, "estimate_frame_velocity", estimateFrameVelocity);
   cfg.write(s, "velocity_prior_sigma_m", velocityPriorSigmaMetres);
   cfg.write(s, "velocity_prior_sigma_deg", velocityPriorSigmaDegrees);
+  cfg.write(s, "velocity_prior_adaptive", adaptiveVelocityPrior);
+  cfg.write(s, "velocity_prior_min_sigma_m", velocityPriorMinSigmaMetres);
+  cfg.write(s, "velocity_prior_min_sigma_deg", velocityPriorMinSigmaDegrees);
   cfg.write(s, "depth_only_min_overlap", depthOnly.minAssociatedFraction);
   cfg.write(s, "depth_only_max_residual", depthOnly.maxRmsResidual);
   cfg.write(s, "depth_only_min_constraint", depthOnly.minConstraint);

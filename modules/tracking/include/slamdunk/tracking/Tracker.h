@@ -14,6 +14,7 @@
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
 #include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/tracking/MotionModelError.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/TrackerOptions.h>
@@ -97,9 +98,15 @@ class Tracker {
   /// The velocity to undo this frame's timing with and its prior: the last frame's estimate
   /// (or the last motion) if `fromLastFrames`, else zero and a wide prior.
   FrameVelocity predictedVelocity(bool fromLastFrames) const;
-  /// The prior's standard deviation: the INI's, or kUnknownVelocityFactor times it.
+  /// The prior's standard deviation: the motion model's measured error within the INI's
+  /// bounds (or the INI's widest), or kUnknownVelocityFactor times the widest.
   Twist velocityPriorSigma(bool fromLastFrames) const;
   static constexpr double kUnknownVelocityFactor = 10;
+  /// After a frame that followed a tracked one (`consecutive`): the velocity the motion model
+  /// predicted at the previous frame is compared with the one its neighbours' poses give.
+  void measureMotionModel(const Pose& pose, double intervalMs, bool consecutive);
+  static constexpr int kMotionModelWindow = 30;      ///< frames: a second at 30 Hz
+  static constexpr int kMotionModelMinSamples = 10;  ///< before the measured width is used
   /// Whether the velocity estimate moved the points by no more than a negligible amount from
   /// those it was compensated with.
   bool velocitySettled(const FrameVelocity& v) const;
@@ -182,8 +189,17 @@ class Tracker {
   std::optional<DepthAlignmentTerm> lastDepthTerm_;  ///< of the last registered frame
   KeyframeId lastDepthReference_ = 0;
   Pose lastPose_ = Pose::Identity();
-  std::optional<Pose> lastMotion_;      ///< between the last two frames, if both were tracked
-  std::optional<Twist> lastVelocity_;   ///< the last frame's estimated velocity, if any
+  std::optional<Pose> lastMotion_;     ///< between the last two frames, if both were tracked
+  std::optional<Twist> lastVelocity_;  ///< the last frame's estimated velocity, if any
+  /// The motion model's prediction at the last frame, and what measures it once the next frame
+  /// is tracked: the pose before it and the interval between the two.
+  struct VelocityPrediction {
+    Twist predicted;
+    Pose poseBefore;
+    double msBefore = 0;
+  };
+  std::optional<VelocityPrediction> lastPrediction_;
+  MotionModelError motionModelError_{kMotionModelWindow, kMotionModelMinSamples};
   double lastMotionMs_ = 0;             ///< the time between those two frames
   std::vector<PoolMatch> lastMatches_;  ///< last frame's pool matches (kept only with SensorTiming)
   double lastTimestamp_ = 0;            ///< of the last frame processed

@@ -71,11 +71,19 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   SensorTimingOptions sensorTiming;
   /// With a rolling shutter or a depth offset: each frame's velocity is estimated with its pose
   /// (FrameVelocity) and moves its features' points, rather than the motion between frames
-  /// extrapolated. That motion is its prior, give or take these (its own error: the poses'
-  /// jitter over one frame interval, and what the extrapolation misses).
+  /// extrapolated. That motion is its prior, give or take its own error: the poses' jitter over
+  /// one frame interval, and what the extrapolation misses.
   bool estimateFrameVelocity = true;
-  double velocityPriorSigmaMetres = 0.03;  ///< m/s
-  double velocityPriorSigmaDegrees = 6;    ///< deg/s
+  /// The prior's width: at most these (m/s, deg/s); a wider prior lets the velocity follow
+  /// whatever else bends the points by row (lens distortion, depth timing).
+  double velocityPriorSigmaMetres = 0.03;
+  double velocityPriorSigmaDegrees = 6;
+  /// Within that, the extrapolation's error measured over the last second (MotionModelError),
+  /// but at least these: the measurement misses errors that persist over several frames.
+  /// False: always the widths above.
+  bool adaptiveVelocityPrior = true;
+  double velocityPriorMinSigmaMetres = 0.005;
+  double velocityPriorMinSigmaDegrees = 1;
   /// Learn the features' noise from the registered frames ([features] keypoint_*_sigma are the
   /// starting values), see KeypointNoiseEstimator.h.
   KeypointNoiseEstimatorOptions noiseEstimation;
