@@ -5,6 +5,7 @@
 #   scripts/accuracy-ablation.sh            (needs the rawlogs of scripts/benchmark.sh, in
 #                                           build/benchmark: run that first)
 #   SEQUENCES="7scenes fr1_xyz_400f" scripts/accuracy-ablation.sh
+#   ROWS="default|velocity prior" scripts/accuracy-ablation.sh   (only the rows whose name matches)
 #   SEEDS="42 43 44 45 46 47 48" scripts/accuracy-ablation.sh   (each cell: the median ATE over
 #                                           these RANSAC seeds [lowest-highest]: a real sequence's
 #                                           ATE moves by a few percent with the seed alone)
@@ -46,6 +47,7 @@ echo "$rule"
 for c in "${configs[@]}"; do
   name=${c%%|*}
   edits=${c#*|}
+  [ -n "${ROWS:-}" ] && ! echo "$name" | grep -qE "$ROWS" && continue
   row="| $name |"
   for s in "${present[@]}"; do
     ini=$work/ablation.ini

@@ -29,7 +29,8 @@ rm -rf "$logs"
 mkdir -p "$logs" "$crashes"
 # Sanitizer reports (if the tree has them) go to files, printed at the end. A length field that
 # makes a reader allocate more than 2 GiB is reported as a failure, not left to the OOM killer.
-export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:max_allocation_size_mb=2048:log_path=$logs/asan"
+# intercept_tls_get_addr=0: see scripts/sanitize.sh (LeakSanitizer's tracer crash at exit).
+export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:max_allocation_size_mb=2048:intercept_tls_get_addr=0:log_path=$logs/asan"
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:log_path=$logs/ubsan"
 
