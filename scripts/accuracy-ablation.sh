@@ -30,6 +30,10 @@ configs=(
 )
 
 field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
+run() {  # run <sequence> <ini>: the app's JSON summary
+  "$bin/slamdunk-rawlog" "$work/$1.rawlog" --config "$2" -t "$work/ablation.txt" --json -q \
+    --gt "$work/${1}_groundtruth.txt"
+}
 
 present=()
 for s in $sequences; do [ -f "$work/$s.rawlog" ] && present+=("$s"); done
@@ -59,17 +63,14 @@ for c in "${configs[@]}"; do
       sed -i "s/^$key .*/$key = ${kv#*=}/" "$ini"
     done
     if [ -z "${SEEDS:-}" ]; then
-      out=$("$bin/slamdunk-rawlog" "$work/$s.rawlog" --config "$ini" -t "$work/ablation.txt" \
-            --json -q --gt "$work/${s}_groundtruth.txt")
+      out=$(run "$s" "$ini")
       row+=" $(echo "$out" | field ate_rmse_m) ($(echo "$out" | field keyframes)) |"
       continue
     fi
     ates=()
     for seed in $SEEDS; do
       sed -i "s/^ransac_seed .*/ransac_seed = $seed/" "$ini"
-      out=$("$bin/slamdunk-rawlog" "$work/$s.rawlog" --config "$ini" -t "$work/ablation.txt" \
-            --json -q --gt "$work/${s}_groundtruth.txt")
-      ates+=("$(echo "$out" | field ate_rmse_m)")
+      ates+=("$(run "$s" "$ini" | field ate_rmse_m)")
     done
     row+=" $(printf '%s\n' "${ates[@]}" | sort -g | awk '{a[NR]=$1} END {m = NR % 2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2; printf "%.4f [%.4f-%.4f]", m, a[1], a[NR]}') |"
   done
