@@ -14,12 +14,14 @@
 #include "VirtualDisplay.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/opengl/CFBORender.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <thread>
 
@@ -264,4 +266,53 @@ TEST(LiveViewer, WithoutADisplayTheErrorSaysWhatToDo) {
     setenv("DISPLAY", previous.c_str(), 1);
   else
     unsetenv("DISPLAY");
+}
+
+// ------------------------------------------------------------------ closing the window
+
+namespace {
+/// Opens a viewer, keeps MRPT's window thread busy from another window for longer than the old
+/// deadline, and closes the viewer. Ends the process (a death test's child: the window thread
+/// lives to the process's end and must not see the test's X server go): 0 if the close waited
+/// for the thread, 1 if not.
+[[noreturn]] void closeAViewerWhileTheWindowThreadIsBusy() {
+  auto viewer = std::make_unique<LiveViewer>(std::make_shared<KeyframeGraph>());
+  mrpt::gui::CDisplayWindow3D other("another window", 160, 120);
+  std::atomic<bool> busy{false}, done{false};
+  other.sendFunctionToRunOnGUIThread([&] {
+    busy = true;
+    std::this_thread::sleep_for(25s);  // beyond the old deadlines (10 s, then 5 s)
+    done = true;
+  });
+  const auto end = std::chrono::steady_clock::now() + 30s;
+  while (!busy && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(10ms);
+  if (!busy) {
+    std::fprintf(stderr, "the window thread never ran the other window's function\n");
+    std::_Exit(2);
+  }
+  viewer.reset();
+  std::fprintf(stderr, done ? "the viewer closed once the window thread was free\n"
+                            : "the viewer freed its window while the window thread was busy\n");
+  std::_Exit(done ? 0 : 1);
+}
+}  // namespace
+
+// MRPT's window thread, shared by every window of the process, draws at the idle priority: on
+// a machine whose cores are all busy it can be long in coming to the viewer's last requests.
+// The viewer must not free its window before the thread has handled them; it did after a
+// deadline (10 s, 5 s more for the last picture, then MRPT's own wait in the window's
+// destructor), and freeing the window with requests queued corrupts the heap (most likely the
+// "double free or corruption" after the last frame of a CI run with two tests on two cores).
+TEST(LiveViewer, ClosingWaitsForTheWindowThreadHoweverLongItIsBusy) {
+#ifdef SLAMDUNK_SANITIZED
+  GTEST_SKIP() << "sanitizer build: the window system is not instrumented (test_gui_apps.cpp)";
+#endif
+  if (const auto why = test::missingDisplayTools()) GTEST_SKIP() << *why;
+  const std::string dir = test::scratchDir("LiveViewer_BusyWindowThread");
+  test::VirtualDisplay display(dir + "/xvfb.log");
+  if (display.name().empty()) GTEST_SKIP() << "no X server could be started (Xvfb)";
+  setenv("DISPLAY", display.name().c_str(), 1);
+  // Forked here, where this process has no thread but the main one.
+  EXPECT_EXIT(closeAViewerWhileTheWindowThreadIsBusy(), testing::ExitedWithCode(0),
+              "the viewer closed once the window thread was free");
 }

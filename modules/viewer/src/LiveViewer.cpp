@@ -28,6 +28,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// How long closing waits for the idle-priority window thread to handle its last requests
+/// (see closeWindow()): far beyond any starvation seen under load, short of a hang.
+constexpr double kWindowThreadAnswerSeconds = 300;
+
 /// MRPT's window system does not report a missing display: it waits, prints a timeout and
 /// goes on with a window that never shows. Ask X first and say what to do.
 void requireDisplay() {
@@ -357,6 +361,14 @@ void LiveViewer::closeWindow() {
     //  2. one last repaint is requested, then a marker function through the same queue: when
     //     it runs, every request before it (our updates' and this repaint's) has been handled;
     //  3. the next picture the window captures after that is the last repaint on the screen.
+    // The window thread draws at the idle priority, so while other work fills every core it
+    // may not run for many seconds: the wait for the marker has no deadline that load can
+    // reach. With a 10 s one, a window thread kept busy longer got its window freed under it
+    // (LiveViewer.ClosingWaitsForTheWindowThreadHoweverLongItIsBusy), and freeing it with
+    // requests queued corrupts the heap (reproduced under busy loops; most likely the "double
+    // free or corruption" after the last frame of a CI run with two tests on two cores). A
+    // window thread that never answers is stuck, not slow: its window is then left to the
+    // process's end instead of being freed under it.
     {
       mrpt::opengl::COpenGLScene::Ptr scene;
       mrpt::gui::CDisplayWindow3DLocker locked(*window_, scene);
@@ -371,7 +383,17 @@ void LiveViewer::closeWindow() {
       while (!done() && Clock::now() < end)
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     };
-    waitFor(10, [&] { return requestsDone->load(); });
+    waitFor(kWindowThreadAnswerSeconds, [&] { return requestsDone->load(); });
+    if (!*requestsDone) {
+      std::fprintf(stderr,
+                   "slamdunk viewer: the window thread did not answer in %.0f s; its window is "
+                   "left open to the end of the process\n",
+                   kWindowThreadAnswerSeconds);
+      if (keys_) keys_->observeEnd(*window_);
+      keys_.reset();
+      (void)window_.release();  // deliberately not freed: its thread may still use it
+      return;
+    }
     const auto before = window_->getLastWindowImagePtr();
     waitFor(5, [&] {
       const auto now = window_->getLastWindowImagePtr();
