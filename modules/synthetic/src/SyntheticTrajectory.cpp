@@ -138,11 +138,10 @@ Pose scanPose(double s) {
   const double phi = -M_PI / 2 + 2 * a;  // two laps: a lap is half a period of a
   // Terms of even order in a repeat on the second lap; the odd ones make it differ by a few cm
   // and degrees, as a person retracing their steps would.
-  const Eigen::Vector3d position(1.3 * std::cos(phi) + 0.03 * std::sin(16 * a) +
-                                     0.02 * std::sin(13 * a),
-                                 0.04 * std::sin(6 * a) + 0.01 * std::sin(23 * a),
-                                 1.0 * std::sin(phi) + 0.03 * std::sin(12 * a) +
-                                     0.02 * std::sin(17 * a));
+  const Eigen::Vector3d position(
+      1.3 * std::cos(phi) + 0.03 * std::sin(16 * a) + 0.02 * std::sin(13 * a),
+      0.04 * std::sin(6 * a) + 0.01 * std::sin(23 * a),
+      1.0 * std::sin(phi) + 0.03 * std::sin(12 * a) + 0.02 * std::sin(17 * a));
   const double outwardYaw = std::atan2(std::cos(phi), std::sin(phi)) / kDeg;
   // Swings of +-35 degrees (four per lap) on top of looking outward, a bit ahead.
   const double yaw = outwardYaw - 25.0 + 35.0 * std::sin(8 * a) + 5.0 * std::sin(29 * a);
