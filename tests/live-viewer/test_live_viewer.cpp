@@ -1,8 +1,8 @@
 // The live viewer's parts without a window: pause and step (PlaybackControl), what the scene
 // shows for a real run (LiveMapScene rendered offscreen: map cloud, keyframe frustums, loop
 // closure, trajectory, current camera, image with inliers and rejected matches), and the error
-// when there is no display. The window itself is tested through the apps under Xvfb
-// (test_gui_apps.cpp).
+// when there is no display; and, under Xvfb, that closing the window waits for MRPT's window
+// thread. The window itself is tested through the apps under Xvfb (test_gui_apps.cpp).
 
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/slam/SlamSystem.h>
@@ -274,8 +274,9 @@ namespace {
 /// Opens a viewer, keeps MRPT's window thread busy from another window for longer than the old
 /// deadline, and closes the viewer. Ends the process (a death test's child: the window thread
 /// lives to the process's end and must not see the test's X server go): 0 if the close waited
-/// for the thread, 1 if not.
-[[noreturn]] void closeAViewerWhileTheWindowThreadIsBusy() {
+/// for the thread, 1 if not. `display`: the X display it opens its windows on.
+[[noreturn]] void closeAViewerWhileTheWindowThreadIsBusy(const std::string& display) {
+  setenv("DISPLAY", display.c_str(), 1);  // in the child only: the test's process keeps its own
   auto viewer = std::make_unique<LiveViewer>(std::make_shared<KeyframeGraph>());
   mrpt::gui::CDisplayWindow3D other("another window", 160, 120);
   std::atomic<bool> busy{false}, done{false};
@@ -311,8 +312,7 @@ TEST(LiveViewer, ClosingWaitsForTheWindowThreadHoweverLongItIsBusy) {
   const std::string dir = test::scratchDir("LiveViewer_BusyWindowThread");
   test::VirtualDisplay display(dir + "/xvfb.log");
   if (display.name().empty()) GTEST_SKIP() << "no X server could be started (Xvfb)";
-  setenv("DISPLAY", display.name().c_str(), 1);
   // Forked here, where this process has no thread but the main one.
-  EXPECT_EXIT(closeAViewerWhileTheWindowThreadIsBusy(), testing::ExitedWithCode(0),
+  EXPECT_EXIT(closeAViewerWhileTheWindowThreadIsBusy(display.name()), testing::ExitedWithCode(0),
               "the viewer closed once the window thread was free");
 }

@@ -353,6 +353,7 @@ void LiveViewer::update() {
 }
 
 void LiveViewer::closeWindow() {
+  bool windowThreadStuck = false;
   if (window_ && window_->isOpen()) {
     // MRPT 2.5 releases the window object as soon as its frame starts closing, while a request
     // or a repaint still queued for the window thread then uses the released object (a crash
@@ -384,25 +385,26 @@ void LiveViewer::closeWindow() {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     };
     waitFor(kWindowThreadAnswerSeconds, [&] { return requestsDone->load(); });
-    if (!*requestsDone) {
+    windowThreadStuck = !*requestsDone;
+    if (windowThreadStuck) {
       std::fprintf(stderr,
                    "slamdunk viewer: the window thread did not answer in %.0f s; its window is "
                    "left open to the end of the process\n",
                    kWindowThreadAnswerSeconds);
-      if (keys_) keys_->observeEnd(*window_);
-      keys_.reset();
-      (void)window_.release();  // deliberately not freed: its thread may still use it
-      return;
+    } else {
+      const auto before = window_->getLastWindowImagePtr();
+      waitFor(5, [&] {
+        const auto now = window_->getLastWindowImagePtr();
+        return now && now != before;
+      });
+      window_->captureImagesStop();
     }
-    const auto before = window_->getLastWindowImagePtr();
-    waitFor(5, [&] {
-      const auto now = window_->getLastWindowImagePtr();
-      return now && now != before;
-    });
-    window_->captureImagesStop();
   }
   if (keys_ && window_) keys_->observeEnd(*window_);
-  window_.reset();
+  if (windowThreadStuck)
+    (void)window_.release();  // deliberately not freed: its thread may still use it
+  else
+    window_.reset();
   keys_.reset();
 }
 
