@@ -77,6 +77,7 @@ void printJson(const std::string& gtPath, const std::string& estPath, const Eval
             << "  \"groundtruth_file\": " << jsonString(gtPath) << ",\n"
             << "  \"estimate_file\": " << jsonString(estPath) << ",\n"
             << "  \"max_dt_s\": " << jsonNumber(opt.maxDifference) << ",\n"
+            << "  \"interpolated_groundtruth\": " << (opt.interpolate ? "true" : "false") << ",\n"
             << "  \"groundtruth_poses\": " << ev.groundTruthPoses << ",\n"
             << "  \"estimate_poses\": " << ev.estimatePoses << ",\n"
             << "  \"pairs\": " << ev.pairs << ",\n"
@@ -111,7 +112,10 @@ void printHuman(const std::string& gtPath, const std::string& estPath, const Eva
   if (ev.duplicateStampsDropped > 0)
     std::printf("note: %zu repeated timestamp(s) ignored (last line of a stamp wins)\n",
                 ev.duplicateStampsDropped);
-  std::printf("pairs associated (|dt| < %g s):       %zu\n", opt.maxDifference, ev.pairs);
+  if (opt.interpolate)
+    std::printf("pairs with ground truth interpolated: %zu\n", ev.pairs);
+  else
+    std::printf("pairs associated (|dt| < %g s):       %zu\n", opt.maxDifference, ev.pairs);
   std::printf("estimated poses without gt partner:   %zu\n", ev.unmatchedEstimatePoses);
   std::printf("ATE (rigid alignment, no scale):\n");
   std::printf("  rmse   %.6f m\n  mean   %.6f m\n  median %.6f m\n", a.rmse, a.mean, a.median);
@@ -175,6 +179,14 @@ int main(int argc, char** argv) {
                                       "Time offset added to the estimated stamps (s). Default 0.",
                                       false, 0.0, "seconds", cmd);
 
+    TCLAP::SwitchArg interpolateArg(
+        "", "interpolate",
+        "Compare each estimated pose with the ground truth interpolated at its stamp (plus "
+        "--offset) between the two poses around it (position linearly, rotation by slerp), when "
+        "those are at most 2x --max-dt apart, instead of the nearest ground-truth pose: for time "
+        "offsets finer than the ground truth's rate. Not the TUM scripts' ATE.",
+        cmd);
+
     if (const auto exitCode = parseCommandLine(cmd, argc, argv, "evaluate-trajectory"))
       return *exitCode;
 
@@ -182,6 +194,7 @@ int main(int argc, char** argv) {
     options.maxDifference = maxDtArg.getValue();
     options.rpeDelta = rpeDeltaArg.getValue();
     options.offset = offsetArg.getValue();
+    options.interpolate = interpolateArg.getValue();
     if (!(options.maxDifference > 0) || !std::isfinite(options.maxDifference))
       throw std::runtime_error("--max-dt must be a positive number of seconds");
     if (!(options.rpeDelta > 0) || !std::isfinite(options.rpeDelta))

@@ -38,14 +38,16 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
       opts.maxFrames ? std::min(opts.maxFrames, seq.frames().size()) : seq.frames().size();
   sum.rgbUnpaired = seq.rgbCount() - seq.frames().size();
   sum.depthUnpaired = seq.depthCount() - seq.frames().size();
-  sum.firstStamp = seq.frames().front().rgbStamp;
-  sum.lastStamp = seq.frames()[n - 1].rgbStamp;
+  const RgbdCameraCalibration& calib = opts.calibration;
+  sum.firstStamp = calib.exposureTime(seq.frames().front().rgbStamp);
+  sum.lastStamp = calib.exposureTime(seq.frames()[n - 1].rgbStamp);
 
   // Ground-truth pose per frame (nearest stamp, TUM association) for the optional observations.
   std::vector<int> gtIndexOfFrame(n, -1);
   if (opts.groundTruthObservations && seq.hasGroundTruth()) {
     std::vector<double> frameStamps, gtStamps;
-    for (size_t i = 0; i < n; ++i) frameStamps.push_back(seq.frames()[i].rgbStamp);
+    for (size_t i = 0; i < n; ++i)
+      frameStamps.push_back(calib.exposureTime(seq.frames()[i].rgbStamp));
     for (const auto& p : seq.groundTruth()) gtStamps.push_back(p.timestamp);
     for (const auto& [i, j] : associateTimestamps(frameStamps, gtStamps, opts.maxDifference))
       gtIndexOfFrame[i] = static_cast<int>(j);

@@ -55,9 +55,22 @@ TEST(CameraCalibration, ShippedCameraFilesLoad) {
       RgbdCameraCalibration::loadFromIni(test::sourceDir() + "/config-ini/cameras/tum-fr1.ini");
   EXPECT_DOUBLE_EQ(fr1.intrinsics.dist[4], 1.1633);
   EXPECT_DOUBLE_EQ(fr1.depthFactor, 5000);
+  EXPECT_DOUBLE_EQ(fr1.stampLatencyMs, 12);
+  EXPECT_DOUBLE_EQ(fr1.exposureTime(100.0), 99.988);
   const auto s7 =
       RgbdCameraCalibration::loadFromIni(test::sourceDir() + "/config-ini/cameras/7scenes.ini");
   EXPECT_DOUBLE_EQ(s7.depthFactor, 1000);
+  EXPECT_DOUBLE_EQ(s7.stampLatencyMs, 0);  // its stamps are frame numbers / 30 Hz
+}
+
+TEST(CameraCalibration, StampLatencyBeyondAFrameIsRejected) {
+  mrpt::config::CConfigFileMemory cfg("[CAMERA]\nfx = 500\nfy = 500\nstamp_latency_ms = 250\n");
+  try {
+    RgbdCameraCalibration::loadFromConfig(cfg);
+    FAIL() << "a 250 ms latency was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stamp_latency_ms"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CameraCalibration, UnknownKeyInCameraFile) {

@@ -262,3 +262,51 @@ TEST(TrajectoryMetrics, RpeGroundTruthWindowIsTwiceMedianInterval) {
   EXPECT_FALSE(r.valid);
   EXPECT_EQ(r.pairs, 0u);
 }
+
+// A camera whose stamps are 10 ms late, against 25 Hz ground truth: the nearest ground-truth
+// pose cannot tell an offset finer than its 40 ms spacing, the interpolated ground truth can.
+TEST(TrajectoryMetrics, InterpolatedGroundTruthResolvesOffsetsFinerThanItsRate) {
+  const Trajectory fine = syntheticTrajectory(10000, 1000.0);  // 1 kHz: the true path
+  Trajectory gt, late;
+  for (std::size_t k = 0; k + 50 < fine.size(); k += 40) {
+    gt.push_back(fine[k]);
+    if (k > 0) late.push_back({fine[k].timestamp, fine[k + 10].pose});  // seen 10 ms later
+  }
+  EvaluationOptions nearest;
+  nearest.maxDifference = 0.03;
+  nearest.offset = 0.010;
+  EvaluationOptions interpolated = nearest;
+  interpolated.interpolate = true;
+  EvaluationOptions interpolatedNoOffset = interpolated;
+  interpolatedNoOffset.offset = 0;
+
+  const double atNearest = TrajectoryMetrics::evaluate(gt, late, nearest).ate.stats.rmse;
+  const auto atInterpolated = TrajectoryMetrics::evaluate(gt, late, interpolated);
+  const double atNoOffset =
+      TrajectoryMetrics::evaluate(gt, late, interpolatedNoOffset).ate.stats.rmse;
+  EXPECT_EQ(atInterpolated.pairs, late.size() - 1);  // the last is after the ground truth ends
+  EXPECT_LT(atInterpolated.ate.stats.rmse, 2e-4);    // linear interpolation of a smooth path
+  EXPECT_GT(atNearest, 1e-3);                        // 10 ms of motion
+  EXPECT_GT(atNoOffset, 1e-3);
+}
+
+TEST(TrajectoryMetrics, InterpolationSkipsGroundTruthGaps) {
+  const Trajectory all = syntheticTrajectory(300, 100.0);  // 3 s at 100 Hz
+  Trajectory gt;
+  for (const StampedPose& p : all)
+    if (p.timestamp < 101.0 || p.timestamp > 101.5) gt.push_back(p);  // a 0.5 s dropout
+  Trajectory est;
+  for (std::size_t k = 5; k < all.size(); k += 10)
+    est.push_back({all[k].timestamp + 0.002, all[k].pose});
+  EvaluationOptions options;
+  options.interpolate = true;
+  const auto ev = TrajectoryMetrics::evaluate(gt, est, options);
+  std::size_t inGap = 0;
+  for (const StampedPose& p : est) inGap += p.timestamp > 101.0 && p.timestamp < 101.5;
+  EXPECT_GT(inGap, 3u);
+  EXPECT_EQ(ev.pairs, est.size() - inGap);
+  EXPECT_EQ(ev.unmatchedEstimatePoses, inGap);
+
+  const Trajectory later = {{200.0, Pose::Identity()}, {200.1, Pose::Identity()}};
+  EXPECT_THROW(TrajectoryMetrics::evaluate(gt, later, options), std::runtime_error);
+}

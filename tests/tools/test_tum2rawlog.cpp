@@ -95,7 +95,9 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
   size_t i = 0;
   while (auto obs = reader.next()) {
     ASSERT_LT(i, expected.size());
-    EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), expected[i].first.stamp, 1e-6);
+    // Stamped at the exposure's middle: the camera file's latency before the listed stamp.
+    EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp),
+                expected[i].first.stamp - calib.stampLatencyMs / 1000.0, 1e-6);
     cv::Mat png = cv::imread(seq + "/" + expected[i].second.file, cv::IMREAD_UNCHANGED);
     ASSERT_EQ(png.type(), CV_16UC1);
     if (calib.depthCamera)  // 7-Scenes: depth registered to colour by the camera file

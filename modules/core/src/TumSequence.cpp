@@ -55,6 +55,8 @@ CameraIntrinsics readIntrinsics(IniSectionReader& r) {
   return K;
 }
 
+constexpr double kMaxStampLatencyMs = 100;
+
 void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
   if (K.width <= 0 || K.height <= 0)
     throw std::invalid_argument("[" + section + "] resolution must be positive");
@@ -74,9 +76,15 @@ RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
   RgbdCameraCalibration c;
   c.intrinsics = readIntrinsics(r);
   c.depthFactor = r.readDouble("depth_factor", c.depthFactor);
+  c.stampLatencyMs = r.readDouble("stamp_latency_ms", c.stampLatencyMs);
   r.rejectUnknownKeys();
   checkIntrinsics(c.intrinsics, section);
   if (!(c.depthFactor > 0)) throw std::invalid_argument("depth_factor must be positive");
+  // More than 100 ms (three frames at 30 Hz) is not a latency but a wrong clock or unit.
+  if (!(std::abs(c.stampLatencyMs) <= kMaxStampLatencyMs))
+    throw std::invalid_argument("[" + section + "] stamp_latency_ms must be within +-" +
+                                std::to_string(static_cast<int>(kMaxStampLatencyMs)) +
+                                " ms (found " + std::to_string(c.stampLatencyMs) + ")");
 
   const std::string depthSection = section + "_DEPTH";
   IniSectionReader d(cfg, depthSection);
@@ -175,7 +183,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
 
   auto obs = mrpt::obs::CObservation3DRangeScan::Create();
   obs->sensorLabel = "RGBD";
-  obs->timestamp = mrpt::Clock::fromDouble(f.rgbStamp);
+  obs->timestamp = mrpt::Clock::fromDouble(calib.exposureTime(f.rgbStamp));
 
   // A PNG's declared size is checked before decoding: the decoder would allocate whatever a
   // corrupt header declares (up to gigabytes) before finding the data missing.

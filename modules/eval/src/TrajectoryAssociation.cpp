@@ -1,6 +1,8 @@
 #include <slamdunk/core/TimestampAssociation.h>
 #include <slamdunk/eval/TrajectoryAssociation.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -31,6 +33,32 @@ TrajectoryAssociation TrajectoryAssociation::compute(const Trajectory& gt, const
     result.pairs.push_back({g, e});
   result.unmatchedEstimates = est.size() - result.pairs.size();
   return result;
+}
+
+Trajectory interpolatedAt(const Trajectory& sortedGt, const std::vector<double>& stamps,
+                          double maxGap) {
+  Trajectory out;
+  for (const double t : stamps) {
+    const auto after =
+        std::lower_bound(sortedGt.begin(), sortedGt.end(), t,
+                         [](const StampedPose& p, double stamp) { return p.timestamp < stamp; });
+    if (after == sortedGt.end()) continue;
+    if (after->timestamp == t) {
+      out.push_back({t, after->pose});
+      continue;
+    }
+    if (after == sortedGt.begin()) continue;
+    const StampedPose& before = *std::prev(after);
+    if (after->timestamp - before.timestamp > maxGap) continue;
+    const double a = (t - before.timestamp) / (after->timestamp - before.timestamp);
+    Pose pose = Pose::Identity();
+    pose.translation() = (1 - a) * before.pose.translation() + a * after->pose.translation();
+    pose.linear() = Eigen::Quaterniond(before.pose.linear())
+                        .slerp(a, Eigen::Quaterniond(after->pose.linear()))
+                        .toRotationMatrix();
+    out.push_back({t, pose});
+  }
+  return out;
 }
 
 Trajectory sortedUniqueByStamp(const Trajectory& traj, std::size_t* duplicatesDropped) {

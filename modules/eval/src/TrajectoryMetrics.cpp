@@ -197,13 +197,25 @@ TrajectoryEvaluation TrajectoryMetrics::evaluate(const Trajectory& gtIn, const T
                                                  const EvaluationOptions& options) {
   TrajectoryEvaluation out;
   std::size_t gtDuplicates = 0, estDuplicates = 0;
-  const Trajectory gt = sortedUniqueByStamp(gtIn, &gtDuplicates);
+  Trajectory gt = sortedUniqueByStamp(gtIn, &gtDuplicates);
   const Trajectory est = sortedUniqueByStamp(estIn, &estDuplicates);
   out.groundTruthPoses = gt.size();
   out.estimatePoses = est.size();
   out.duplicateStampsDropped = gtDuplicates + estDuplicates;
   if (gt.empty()) throw std::runtime_error("the ground-truth trajectory has no poses");
   if (est.empty()) throw std::runtime_error("the estimated trajectory has no poses");
+  if (options.interpolate) {
+    // One ground-truth pose at each estimated instant: the association below pairs them exactly.
+    std::vector<double> instants;
+    for (const StampedPose& p : est) instants.push_back(p.timestamp + options.offset);
+    const double first = gt.front().timestamp, last = gt.back().timestamp;
+    gt = interpolatedAt(gt, instants, 2 * options.maxDifference);
+    if (gt.empty())
+      throw std::runtime_error(format(
+          "no estimated stamp lies between two ground-truth poses at most %g s apart (ground "
+          "truth spans %.6f..%.6f s, estimate spans %.6f..%.6f s); do both use the same clock?",
+          2 * options.maxDifference, first, last, est.front().timestamp, est.back().timestamp));
+  }
 
   const TrajectoryAssociation association =
       TrajectoryAssociation::compute(gt, est, options.maxDifference, options.offset);

@@ -28,6 +28,14 @@ struct RgbdCameraCalibration {
   std::optional<CameraIntrinsics> depthCamera;
   /// The colour camera's centre in the depth camera's optical frame (axes parallel), metres.
   Eigen::Vector3d colourCentreInDepth = Eigen::Vector3d::Zero();
+  /// Milliseconds from the middle of the colour image's exposure to its stamp in the source.
+  /// The pipeline takes a frame's stamp as that middle (its rolling-shutter rows are timed
+  /// around it); a driver that stamps a frame when it has arrived stamps it later, by half the
+  /// readout and the transfer.
+  double stampLatencyMs = 0;
+
+  /// The instant a source stamp stands for: the middle of the colour exposure.
+  double exposureTime(double sourceStamp) const { return sourceStamp - stampLatencyMs / 1000.0; }
 
   /// Depth camera frame -> colour camera frame (axes parallel, metres).
   Eigen::Isometry3d depthToColour() const {
@@ -37,9 +45,10 @@ struct RgbdCameraCalibration {
   }
 
   /// Reads section [CAMERA] (the colour camera): resolution = [w h], fx, fy, cx, cy,
-  /// dist = [k1 k2 p1 p2 k3], depth_factor; and the optional section [CAMERA_DEPTH] (a depth
-  /// camera whose images are not registered to colour): resolution, fx, fy, cx, cy, dist,
-  /// colour_centre = [x y z]. Unknown keys and malformed values are errors naming the key.
+  /// dist = [k1 k2 p1 p2 k3], depth_factor, stamp_latency_ms (default 0); and the optional section
+  /// [CAMERA_DEPTH] (a depth camera whose images are not registered to colour): resolution, fx, fy,
+  /// cx, cy, dist, colour_centre = [x y z]. Unknown keys and malformed values are errors naming the
+  /// key.
   static RgbdCameraCalibration loadFromIni(const std::string& path);
   static RgbdCameraCalibration loadFromConfig(const mrpt::config::CConfigFileBase& cfg,
                                               const std::string& section = "CAMERA");

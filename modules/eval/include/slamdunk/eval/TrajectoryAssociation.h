@@ -29,6 +29,14 @@ struct TrajectoryAssociation {
                                        double maxDifference = 0.02, double offset = 0.0);
 };
 
+/// Ground truth at the given stamps: each pose interpolated between the two poses of `sortedGt`
+/// (sorted by stamp) around its stamp, position linearly and rotation by slerp, when those two
+/// are at most `maxGap` seconds apart (a stamp equal to a pose's takes that pose). Stamps with no
+/// such pair (outside the ground truth, in a gap) are left out. For comparing time offsets finer
+/// than the ground truth's rate, which the nearest pose cannot resolve.
+Trajectory interpolatedAt(const Trajectory& sortedGt, const std::vector<double>& stamps,
+                          double maxGap);
+
 /// The TUM scripts load trajectories into a dictionary keyed by stamp: sorted by stamp, and for a
 /// repeated stamp the last line wins. Returns that view of `traj`; `duplicatesDropped` (optional)
 /// receives how many lines were overridden.

@@ -43,6 +43,10 @@ struct EvaluationOptions {
   double maxDifference = 0.02;  ///< association window for ATE, seconds
   double offset = 0.0;          ///< added to estimate stamps before comparing them, seconds
   double rpeDelta = 1.0;        ///< seconds
+  /// Compare each estimated pose with the ground truth interpolated at its stamp (plus offset)
+  /// between the poses around it, at most 2 x maxDifference apart (interpolatedAt), instead of
+  /// the nearest ground-truth pose.
+  bool interpolate = false;
 };
 
 struct TrajectoryEvaluation {
