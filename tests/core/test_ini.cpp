@@ -63,7 +63,7 @@ TEST(CameraCalibration, ShippedCameraFilesLoad) {
   EXPECT_DOUBLE_EQ(s7.stampLatencyMs, 0);  // its stamps are frame numbers / 30 Hz
 }
 
-TEST(CameraCalibration, StampLatencyBeyondAFrameIsRejected) {
+TEST(CameraCalibration, StampLatencyBeyond100MsIsRejected) {
   mrpt::config::CConfigFileMemory cfg("[CAMERA]\nfx = 500\nfy = 500\nstamp_latency_ms = 250\n");
   try {
     RgbdCameraCalibration::loadFromConfig(cfg);
