@@ -24,11 +24,29 @@ std::string defaultGroundTruthPath(const std::string& rawlogPath) {
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
 }
 
+/// Throws when an output would replace one of the sequence's own lists: `--gt` pointed at the
+/// source's groundtruth.txt would silently turn the user's ground truth into this tool's copy.
+void rejectOutputOverInput(const std::string& output, const char* what,
+                           const std::string& sequenceFolder) {
+  for (const char* input : {"groundtruth.txt", "rgb.txt", "depth.txt"}) {
+    const fs::path source = fs::path(sequenceFolder) / input;
+    std::error_code ec;
+    if (fs::equivalent(output, source, ec))
+      throw std::runtime_error(std::string(what) + " '" + output + "' is the sequence's own '" +
+                               source.string() + "': choose another path");
+  }
+}
+
 }  // namespace
 
 TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
                                       const std::function<void(size_t, size_t)>& progress) {
   const TumSequence seq(opts.sequenceFolder, opts.maxDifference);
+  const std::string groundTruthPath =
+      opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath) : opts.groundTruthPath;
+  rejectOutputOverInput(opts.rawlogPath, "rawlog", opts.sequenceFolder);
+  if (seq.hasGroundTruth())
+    rejectOutputOverInput(groundTruthPath, "ground-truth output", opts.sequenceFolder);
   if (seq.frames().empty())
     throw std::runtime_error("no colour/depth pair in '" + opts.sequenceFolder +
                              "' associates within " + std::to_string(opts.maxDifference) + " s");
@@ -96,8 +114,7 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
 
   // Ground truth goes first: if it fails, the rawlog has not been replaced yet.
   if (seq.hasGroundTruth()) {
-    sum.groundTruthPath = opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath)
-                                                       : opts.groundTruthPath;
+    sum.groundTruthPath = groundTruthPath;
     writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(),
                        "ground truth of " + opts.sequenceFolder + " (optical frame, TUM format)");
     sum.groundTruthPoses = seq.groundTruth().size();

@@ -252,3 +252,25 @@ TEST_F(Tum2RawlogBadInput, MalformedGroundTruth) {
   std::ofstream(seq + "/groundtruth.txt", std::ios::app) << "1305031102.2 1 2 3\n";
   expectFailure(convert(seq, out), "groundtruth.txt:");
 }
+
+// The source's ground truth is read as input: writing the converted copy over it would replace
+// the user's file with this tool's (its header and number format), so it is refused.
+TEST_F(Tum2RawlogBadInput, GroundTruthOutputOverTheSourcesOwn) {
+  const std::string source = seq + "/groundtruth.txt";
+  std::ifstream in(source);
+  const std::string before((std::istreambuf_iterator<char>(in)), {});
+  expectFailure(convert(seq, out, "--gt " + quote(source)), "groundtruth.txt");
+  std::ifstream after(source);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(after), {}), before);
+}
+
+TEST_F(Tum2RawlogBadInput, RawlogOverAnImageList) {
+  const std::string list = seq + "/rgb.txt";
+  std::ifstream in(list);
+  const std::string before((std::istreambuf_iterator<char>(in)), {});
+  const auto r = convert(seq, list);
+  EXPECT_NE(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("rgb.txt"), std::string::npos) << r.output;
+  std::ifstream after(list);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(after), {}), before);
+}
