@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -418,6 +419,31 @@ TEST(SlamdunkLive, GenericSensorCCameraSensorReplaysARawlog) {
   EXPECT_GE(readTumTrajectory(r.trajectory).size(), 5u) << r.result.output;
 }
 
+// A camera driver stamps a frame when it has arrived; sensor_stamp_latency_ms moves every stamp
+// back to the exposure's middle, as tum2rawlog's camera files do for recorded sequences.
+TEST(SlamdunkLive, SensorStampLatencyMovesEveryStampBack) {
+  REQUIRE_RAWLOG(rawlog, "fr1_desk_9f");
+  const std::string dir = test::scratchDir("Live_StampLatency");
+  const std::string ini = writeFile(dir + "/camera.ini",
+                                    "[slamdunk-live]\nsource = CAM\nsensor_stamp_latency_ms = 12\n"
+                                    "[CAM]\ndriver = CCameraSensor\ngrabber_type = rawlog\n"
+                                    "rawlog_file = " +
+                                        rawlog + "\nprocess_rate = 30\nsensorLabel = CAM\n");
+  const LiveRun r = runLive(ini, dir);
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  const Trajectory poses = readTumTrajectory(r.trajectory);
+  ASSERT_GE(poses.size(), 5u) << r.result.output;
+  const std::vector<double> source = frameTimestamps(rawlog);
+  for (const auto& p : poses) {
+    // Each pose is of one source frame, 12 ms before that frame's stamp (the trajectory file
+    // keeps microseconds).
+    const auto frame = std::find_if(source.begin(), source.end(), [&](double s) {
+      return std::abs(s - 0.012 - p.timestamp) < 2e-6;
+    });
+    EXPECT_NE(frame, source.end()) << "pose at " << p.timestamp << " is no source stamp - 12 ms";
+  }
+}
+
 TEST(SlamdunkLive, RecordingReplaysWithoutTheSourceImages) {
   REQUIRE_RAWLOG(rawlog, "7scenes");  // images stored externally: the recording must embed them
   const std::string dir = test::scratchDir("Live_Record");
@@ -475,6 +501,21 @@ TEST(SlamdunkLiveBadInput, MissingReplayRawlog) {
   EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
   EXPECT_NE(r.result.output.find("other.rawlog' does not exist"), std::string::npos)
       << r.result.output;
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
+TEST(SlamdunkLiveBadInput, StampLatencyOutOfRangeOrOnAReplay) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("Live_BadLatency");
+  LiveRun r = runLive(replayIni(dir, rawlog, "sensor_stamp_latency_ms = 250"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("sensor_stamp_latency_ms must be within +-100 ms"),
+            std::string::npos)
+      << r.result.output;
+  // A rawlog's stamps are the exposure's already: correcting them again is refused.
+  r = runLive(replayIni(dir, rawlog, "sensor_stamp_latency_ms = 12"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("driver = replay"), std::string::npos) << r.result.output;
   EXPECT_FALSE(fs::exists(r.trajectory));
 }
 

@@ -55,8 +55,6 @@ CameraIntrinsics readIntrinsics(IniSectionReader& r) {
   return K;
 }
 
-constexpr double kMaxStampLatencyMs = 100;
-
 void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
   if (K.width <= 0 || K.height <= 0)
     throw std::invalid_argument("[" + section + "] resolution must be positive");
@@ -69,6 +67,13 @@ void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
 
 }  // namespace
 
+std::string stampLatencyProblem(double ms) {
+  constexpr double kMaxStampLatencyMs = 100;
+  if (std::abs(ms) <= kMaxStampLatencyMs) return {};  // NaN fails this too
+  return "must be within +-" + std::to_string(static_cast<int>(kMaxStampLatencyMs)) +
+         " ms (found " + std::to_string(ms) + ")";
+}
+
 RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
   IniSectionReader r(cfg, section);
@@ -80,11 +85,8 @@ RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
   r.rejectUnknownKeys();
   checkIntrinsics(c.intrinsics, section);
   if (!(c.depthFactor > 0)) throw std::invalid_argument("depth_factor must be positive");
-  // More than 100 ms (three frames at 30 Hz) is not a latency but a wrong clock or unit.
-  if (!(std::abs(c.stampLatencyMs) <= kMaxStampLatencyMs))
-    throw std::invalid_argument("[" + section + "] stamp_latency_ms must be within +-" +
-                                std::to_string(static_cast<int>(kMaxStampLatencyMs)) +
-                                " ms (found " + std::to_string(c.stampLatencyMs) + ")");
+  if (const std::string bad = stampLatencyProblem(c.stampLatencyMs); !bad.empty())
+    throw std::invalid_argument("[" + section + "] stamp_latency_ms " + bad);
 
   const std::string depthSection = section + "_DEPTH";
   IniSectionReader d(cfg, depthSection);

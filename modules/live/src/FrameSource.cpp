@@ -21,7 +21,8 @@ std::string resolve(const std::string& path, const std::string& baseDir) {
 std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase& cfg,
                                              const std::string& section, const std::string& iniDir,
                                              const SourceOverrides& overrides,
-                                             double frameTimeoutSeconds) {
+                                             double frameTimeoutSeconds,
+                                             double sensorStampLatencyMs) {
   if (!cfg.sectionExists(section))
     throw std::runtime_error("source section [" + section + "] is not in the INI");
   const std::string driver = cfg.read_string(section, "driver", "");
@@ -45,12 +46,21 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
     if (!(speed > 0)) throw std::runtime_error("replay speed must be > 0 (1 = real time)");
     if (loops < 0)
       throw std::runtime_error("[" + section + "] loops must be >= 0 (0 = until stopped)");
+    // tum2rawlog and --record write the exposure's instant already: a second correction would
+    // put every frame early.
+    if (sensorStampLatencyMs != 0)
+      throw std::runtime_error(
+          "sensor_stamp_latency_ms applies to camera drivers, not to [" + section +
+          "] driver = replay: a rawlog's stamps are taken as they are (tum2rawlog and --record "
+          "write the exposure's instant)");
     return std::make_unique<ReplayFrameSource>(rawlog, speed, loops);
   }
   if (overrides.rawlog || overrides.speed)
     throw std::runtime_error("--rawlog and --speed apply to a replay source only; [" + section +
                              "] uses driver " + driver);
-  return std::make_unique<SensorFrameSource>(cfg, section, driver, frameTimeoutSeconds);
+  auto sensor = std::make_unique<SensorFrameSource>(cfg, section, driver, frameTimeoutSeconds);
+  sensor->setStampLatencyMs(sensorStampLatencyMs);
+  return sensor;
 }
 
 }  // namespace slamdunk::live

@@ -2,6 +2,7 @@
 
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
+#include <slamdunk/core/TumSequence.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -34,6 +35,7 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     o.statusPeriod = r.readDouble("status_period", o.statusPeriod);
     o.openTimeout = r.readDouble("open_timeout", o.openTimeout);
     o.frameTimeout = r.readDouble("frame_timeout", o.frameTimeout);
+    o.sensorStampLatencyMs = r.readDouble("sensor_stamp_latency_ms", o.sensorStampLatencyMs);
     const int everyKeyframes =
         r.readInt("checkpoint_every_keyframes", static_cast<int>(o.checkpoint.everyKeyframes));
     o.checkpoint.everySeconds = r.readDouble("checkpoint_every_seconds", o.checkpoint.everySeconds);
@@ -47,6 +49,8 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     if (o.openTimeout <= 0 || o.frameTimeout <= 0)
       throw std::runtime_error(std::string("[") + kSection + "] timeouts must be > 0");
     o.queueCapacity = static_cast<size_t>(capacity);
+    if (const std::string bad = stampLatencyProblem(o.sensorStampLatencyMs); !bad.empty())
+      throw std::runtime_error(std::string("[") + kSection + "] sensor_stamp_latency_ms " + bad);
     if (everyKeyframes < 0 || !(o.checkpoint.everySeconds >= 0))
       throw std::runtime_error(std::string("[") + kSection +
                                "] checkpoint_every_keyframes and checkpoint_every_seconds must "

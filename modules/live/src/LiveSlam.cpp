@@ -45,7 +45,7 @@ std::unique_ptr<LiveSlam> LiveSlam::fromIniFile(const std::string& path, const L
                                                 const SourceOverrides& overrides) {
   LiveOptions options = LiveOptions::fromFile(path);
   auto source = makeFrameSource(*options.config, options.sourceSection, options.iniDir, overrides,
-                                options.frameTimeout);
+                                options.frameTimeout, options.sensorStampLatencyMs);
   return std::make_unique<LiveSlam>(std::move(options), std::move(source), session);
 }
 

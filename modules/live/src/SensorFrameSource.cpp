@@ -3,6 +3,7 @@
 #include "StdoutToStderr.h"
 
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/TumSequence.h>
 
 #include <mrpt/hwdrivers/COpenNI2Generic.h>
 #include <mrpt/io/lazy_load_path.h>
@@ -64,6 +65,12 @@ SensorFrameSource::SensorFrameSource(mrpt::hwdrivers::CGenericSensor::Ptr sensor
   ownedByApplication_ = true;
   driver_ = sensor_->GetRuntimeClass()->className;
   section_ = sensor_->getSensorLabel();
+}
+
+void SensorFrameSource::setStampLatencyMs(double ms) {
+  if (const std::string bad = stampLatencyProblem(ms); !bad.empty())
+    throw std::invalid_argument("stamp latency " + bad);
+  stampLatencyMs_ = ms;
 }
 
 SensorFrameSource::~SensorFrameSource() {
@@ -145,6 +152,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr SensorFrameSource::next(const std::atomi
   auto obs = pending_.front();
   pending_.pop_front();
   obs->load();  // externally stored images (CCameraSensor replaying a rawlog)
+  obs->timestamp -= std::chrono::duration_cast<mrpt::Clock::duration>(
+      std::chrono::duration<double, std::milli>(stampLatencyMs_));
   return obs;
 }
 

@@ -54,6 +54,11 @@ struct RgbdCameraCalibration {
                                               const std::string& section = "CAMERA");
 };
 
+/// Empty when `ms` is a plausible stamp latency (a driver's stamp after the middle of the
+/// exposure); otherwise why not: more than 100 ms (three frames at 30 Hz) is a wrong clock or
+/// unit, not a latency.
+std::string stampLatencyProblem(double ms);
+
 struct TumFrameEntry {
   double rgbStamp = 0, depthStamp = 0;
   std::string rgbFile, depthFile;  ///< absolute paths

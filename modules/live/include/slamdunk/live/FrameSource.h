@@ -37,10 +37,14 @@ struct SourceOverrides {
 
 /// Builds the source described by INI section `section`: `driver = replay` is this app's
 /// real-time rawlog player; any other driver is an MRPT CGenericSensor class name.
-/// Relative paths are resolved against `iniDir`. Throws std::runtime_error on a bad section.
+/// Relative paths are resolved against `iniDir`. A camera driver's frames are stamped
+/// `sensorStampLatencyMs` earlier (SensorFrameSource::setStampLatencyMs); a replay source with a
+/// latency is an error (its rawlog's stamps are taken as they are). Throws std::runtime_error on
+/// a bad section.
 std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase& cfg,
                                              const std::string& section, const std::string& iniDir,
                                              const SourceOverrides& overrides,
-                                             double frameTimeoutSeconds);
+                                             double frameTimeoutSeconds,
+                                             double sensorStampLatencyMs = 0);
 
 }  // namespace slamdunk::live

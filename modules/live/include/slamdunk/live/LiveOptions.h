@@ -43,6 +43,9 @@ struct LiveOptions {
   double statusPeriod = 1.0;   ///< s between status lines (0 = none)
   double openTimeout = 15.0;   ///< s allowed for the source to open
   double frameTimeout = 10.0;  ///< s without a frame from a camera before giving up
+  /// A camera driver's stamp, ms after the middle of the colour exposure (SensorFrameSource::
+  /// setStampLatencyMs); camera drivers only: rawlogs replayed hold exposure-time stamps.
+  double sensorStampLatencyMs = 0;
   CheckpointOptions checkpoint;
   SlamOptions slam = liveSlamDefaults();  ///< the live defaults below, then the INI's values
   std::shared_ptr<mrpt::config::CConfigFile> config;  ///< kept for the source section

@@ -26,6 +26,11 @@ class SensorFrameSource : public FrameSource {
                              double frameTimeoutSeconds = 10.0);
   ~SensorFrameSource() override;
 
+  /// The driver stamps a frame this long after the middle of its colour exposure (a Kinect v1
+  /// through OpenNI: about half its 25 ms readout, as tum-fr1.ini says); every frame's stamp is
+  /// moved back by it, to the instant the pipeline takes a stamp for. Throws beyond +-100 ms.
+  void setStampLatencyMs(double ms);
+
   void open() override;
   mrpt::obs::CObservation3DRangeScan::Ptr next(const std::atomic<bool>& stop) override;
   std::string describe() const override;
@@ -36,6 +41,7 @@ class SensorFrameSource : public FrameSource {
   std::string section_, driver_;
   std::string lookedFor_;  ///< e.g. "device_number = 0": named in the no-device message
   double frameTimeout_;
+  double stampLatencyMs_ = 0;
   bool initialized_ = false;
   bool ownedByApplication_ = false;
 
