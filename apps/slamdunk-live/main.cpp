@@ -8,6 +8,7 @@
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/live/LiveSlam.h>
 #include <slamdunk/maps/CKeyframeGraphMap.h>
@@ -123,6 +124,18 @@ int main(int argc, char** argv) {
     if (argRender.isSet())
       throw std::runtime_error("--render: this build has no map renderer (slamdunk::dense)");
 #endif
+    rejectPathClashes(
+        {{"--config", argConfig.getValue()},
+         {"--rawlog", argRawlog.getValue()},
+         {"--gt", argGt.getValue()},
+         {"--load-map", argLoadMap.getValue()}},
+        {{"--trajectory", argTraj.getValue()},
+         {argKf.isSet() ? "--keyframes" : "the keyframe trajectory",
+          argKf.isSet() ? argKf.getValue() : keyframeTrajectoryPathFor(argTraj.getValue())},
+         {"--map", argMap.getValue()},
+         {"--render", argRender.getValue()},
+         {"--record", argRecord.getValue()},
+         {"--frame-log", argFrameLog.getValue()}});
     if (argRender.isSet()) requireWritableFolder(argRender.getValue());
     Trajectory groundTruth;
     if (argGt.isSet()) groundTruth = readTumTrajectory(argGt.getValue());

@@ -28,11 +28,6 @@ using namespace slamdunk;
 
 namespace {
 
-std::string keyframePathFor(const std::string& trajectoryPath) {
-  const fs::path p(trajectoryPath);
-  return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
-}
-
 void writeFrameLogLine(std::ostream& out, size_t index, const TrackingResult& r) {
   char buf[512];
   const Eigen::Vector3d t = r.pose.translation();
@@ -197,6 +192,18 @@ int main(int argc, char** argv) {
     if (argNoOpt.getValue()) options.localOptimization = false;
     if (argMapImages.isSet() || argDense.isSet() || argRender.isSet() || argSimpleMap.isSet())
       options.tracker.keepKeyframeImages = true;
+    const std::string kfPath =
+        argKf.isSet() ? argKf.getValue() : keyframeTrajectoryPathFor(argTraj.getValue());
+    rejectPathClashes({{"IN.rawlog", argIn.getValue()},
+                       {"--config", argConfig.getValue()},
+                       {"--gt", argGt.getValue()},
+                       {"--load-map", argLoadMap.getValue()}},
+                      {{"--trajectory", argTraj.getValue()},
+                       {argKf.isSet() ? "--keyframes" : "the keyframe trajectory", kfPath},
+                       {"--save-map", argSaveMap.getValue()},
+                       {"--render", argRender.getValue()},
+                       {"--simplemap", argSimpleMap.getValue()},
+                       {"--frame-log", argFrameLog.getValue()}});
     // Fail on unwritable outputs before spending minutes on the run.
     for (const std::string& out :
          {argTraj.getValue(), argKf.getValue(), argSaveMap.getValue(), argDense.getValue(),
@@ -322,8 +329,6 @@ int main(int argc, char** argv) {
           writeTumTrajectory(staged, traj,
                              "slamdunk-rawlog " + argIn.getValue() + ": every tracked frame");
         });
-    const std::string kfPath =
-        argKf.isSet() ? argKf.getValue() : keyframePathFor(argTraj.getValue());
     writeStaged(kfPath, outputs.stage(kfPath), [&](const std::string& staged) {
       writeTumTrajectory(staged, slam.keyframeTrajectory(),
                          "slamdunk-rawlog " + argIn.getValue() + ": keyframes");

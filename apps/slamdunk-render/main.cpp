@@ -1,6 +1,7 @@
 // slamdunk-render: renders a saved SlamDunk map (CKeyframeGraphMap file), or a .ply/.pcd cloud,
 // offscreen to a PNG: coloured cloud, keyframe frustums, graph edges, optional trajectory.
 
+#include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/MapRenderer.h>
@@ -87,6 +88,8 @@ int main(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::string& mapPath = argMap.getValue();
+    rejectPathClashes({{"MAP", mapPath}, {"--trajectory", argTraj.getValue()}},
+                      {{"OUT", argOut.getValue()}, {"--scene", argScene.getValue()}});
     Trajectory trajectory;
     if (argTraj.isSet()) trajectory = readTumTrajectory(argTraj.getValue());
 

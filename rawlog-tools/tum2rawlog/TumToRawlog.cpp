@@ -24,19 +24,6 @@ std::string defaultGroundTruthPath(const std::string& rawlogPath) {
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
 }
 
-/// Throws when an output would replace one of the sequence's own lists: `--gt` pointed at the
-/// source's groundtruth.txt would silently turn the user's ground truth into this tool's copy.
-void rejectOutputOverInput(const std::string& output, const char* what,
-                           const std::string& sequenceFolder) {
-  for (const char* input : {"groundtruth.txt", "rgb.txt", "depth.txt"}) {
-    const fs::path source = fs::path(sequenceFolder) / input;
-    std::error_code ec;
-    if (fs::equivalent(output, source, ec))
-      throw std::runtime_error(std::string(what) + " '" + output + "' is the sequence's own '" +
-                               source.string() + "': choose another path");
-  }
-}
-
 }  // namespace
 
 TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
@@ -44,9 +31,14 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
   const TumSequence seq(opts.sequenceFolder, opts.maxDifference);
   const std::string groundTruthPath =
       opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath) : opts.groundTruthPath;
-  rejectOutputOverInput(opts.rawlogPath, "rawlog", opts.sequenceFolder);
-  if (seq.hasGroundTruth())
-    rejectOutputOverInput(groundTruthPath, "ground-truth output", opts.sequenceFolder);
+  // `--gt` pointed at the source's groundtruth.txt would turn the user's ground truth into
+  // this tool's copy.
+  const fs::path dir(opts.sequenceFolder);
+  rejectPathClashes({{"ground truth", (dir / "groundtruth.txt").string()},
+                     {"colour list", (dir / "rgb.txt").string()},
+                     {"depth list", (dir / "depth.txt").string()}},
+                    {{"rawlog", opts.rawlogPath},
+                     {"ground-truth output", seq.hasGroundTruth() ? groundTruthPath : ""}});
   if (seq.frames().empty())
     throw std::runtime_error("no colour/depth pair in '" + opts.sequenceFolder +
                              "' associates within " + std::to_string(opts.maxDifference) + " s");

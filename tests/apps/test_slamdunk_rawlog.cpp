@@ -444,6 +444,44 @@ TEST(SlamdunkRawlogBadInput, MisspelledIniKeyKeepsExistingOutput) {
   EXPECT_EQ(readFile(dir + "/trajectory.txt"), "precious\n");
 }
 
+// A trajectory written over the ground truth or the input rawlog would lose the user's file: the
+// run is refused before it starts, naming both, and both files stay as they were.
+TEST(SlamdunkRawlogBadInput, OutputsOverInputsAreRefused) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("SlamBad_Clash");
+  const std::string gt = dir + "/gt.txt";
+  fs::copy_file(test::groundTruthOf(rawlog), gt);
+  const std::string gtBefore = readFile(gt);
+  const auto run = [&](const std::string& args) {
+    return test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " -q " + args);
+  };
+  test::CommandResult r = run("--trajectory " + q(gt) + " --gt " + q(dir + "/./gt.txt"));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("--trajectory '" + gt + "' is the input --gt"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(readFile(gt), gtBefore);
+
+  r = run("--trajectory " + q(dir + "/t.txt") + " --keyframes " + q(gt) + " --gt " + q(gt));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("--keyframes"), std::string::npos) << r.output;
+  EXPECT_EQ(readFile(gt), gtBefore);
+  EXPECT_FALSE(fs::exists(dir + "/t.txt"));
+
+  // The default keyframe file ("OUT_keyframes.txt" beside OUT.txt) counts too.
+  fs::copy_file(gt, dir + "/x_keyframes.txt");
+  r = run("--trajectory " + q(dir + "/x.txt") + " --gt " + q(dir + "/x_keyframes.txt"));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("the keyframe trajectory"), std::string::npos) << r.output;
+  EXPECT_EQ(readFile(dir + "/x_keyframes.txt"), gtBefore);
+
+  // Two outputs naming one file: one would replace the other.
+  r = run("--trajectory " + q(dir + "/y.txt") + " --save-map " + q(dir + "/m.map") + " --render " +
+          q(dir + "/m.map"));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("--save-map and --render name the same file"), std::string::npos)
+      << r.output;
+}
+
 TEST(SlamdunkRawlogBadInput, MissingRawlogAndBadGroundTruth) {
   const std::string dir = test::scratchDir("SlamBad_Missing");
   SlamRun r = runSlam(dir + "/nope.rawlog", dir, "", false);

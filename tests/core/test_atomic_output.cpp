@@ -153,3 +153,34 @@ TEST(AtomicOutputFolder, CreatesANewFolder) {
   EXPECT_TRUE(fs::exists(dir + "/fresh/a.txt"));
   EXPECT_EQ(entries(dir), 1u);
 }
+
+// An output naming an input's file (or another output's) is refused before the run: `-t GT.txt
+// --gt GT.txt` would otherwise replace the user's ground truth with the run's trajectory.
+TEST(AtomicOutputChecks, OutputsClashingWithInputsOrEachOtherAreRefused) {
+  const std::string dir = test::scratchDir("PathClashes");
+  const std::string gt = dir + "/gt.txt";
+  std::ofstream(gt) << "precious\n";
+  fs::create_directories(dir + "/sub");
+  fs::create_symlink(gt, dir + "/link.txt");
+
+  const auto clash = [&](const std::string& out) {
+    try {
+      rejectPathClashes({{"--gt", gt}, {"--config", ""}}, {{"--trajectory", out}});
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("--gt"), std::string::npos) << e.what();
+      return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(clash(gt));
+  EXPECT_TRUE(clash(dir + "/sub/../gt.txt"));  // another spelling of the same path
+  EXPECT_TRUE(clash(dir + "/link.txt"));       // a symbolic link to it
+  EXPECT_FALSE(clash(dir + "/trajectory.txt"));
+  EXPECT_FALSE(clash(""));  // not given
+
+  // Two outputs: one would replace the other, whether or not the file exists yet.
+  EXPECT_THROW(rejectPathClashes({}, {{"-t", dir + "/new.txt"}, {"-k", dir + "/./new.txt"}}),
+               std::invalid_argument);
+  EXPECT_NO_THROW(rejectPathClashes({}, {{"-t", dir + "/a.txt"}, {"-k", dir + "/b.txt"}}));
+  EXPECT_EQ(readFile(gt), "precious\n");
+}

@@ -19,6 +19,7 @@ using namespace slamdunk;
 namespace {
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
+using test::readFile;
 
 /// Three keyframes 20 cm apart looking at a tilted, colour-striped wall about 2 m away.
 std::string saveSmallMap(const std::string& dir) {
@@ -108,6 +109,12 @@ TEST(SlamdunkRender, BadArgumentsAndHelp) {
   EXPECT_NE(r.output.find("image size"), std::string::npos) << r.output;
   r = test::runCommand(tool + " " + q(map) + " " + q(dir + "/x.png") + " --elevation 100");
   EXPECT_EQ(r.exitCode, 1) << r.output;
+  // The picture written over the map it renders would lose the map.
+  const std::string mapBefore = readFile(map);
+  r = test::runCommand(tool + " " + q(map) + " " + q(map));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("is the input MAP"), std::string::npos) << r.output;
+  EXPECT_EQ(readFile(map), mapBefore);
   r = test::runCommand(tool + " " + q(map));  // OUT missing
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/x.png"));

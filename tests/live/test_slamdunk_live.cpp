@@ -519,6 +519,19 @@ TEST(SlamdunkLiveBadInput, StampLatencyOutOfRangeOrOnAReplay) {
   EXPECT_FALSE(fs::exists(r.trajectory));
 }
 
+TEST(SlamdunkLiveBadInput, OutputsOverInputsAreRefused) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("Live_Clash");
+  const std::string ini = replayIni(dir, rawlog);
+  const std::string iniBefore = readText(ini);
+  LiveRun r = runLive(ini, dir, "--map " + q(ini));
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("--map '" + ini + "' is the input --config"), std::string::npos)
+      << r.result.output;
+  EXPECT_EQ(readText(ini), iniBefore);
+  EXPECT_FALSE(fs::exists(r.trajectory));
+}
+
 TEST(SlamdunkLiveBadInput, BadSourceSections) {
   const std::string dir = test::scratchDir("Live_BadSource");
   LiveRun r = runLive(writeFile(dir + "/a.ini", "[slamdunk-live]\nsource = NOPE\n"), dir);

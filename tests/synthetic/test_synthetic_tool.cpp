@@ -84,6 +84,11 @@ TEST(SyntheticRgbdTool, BadOptionFailsClearlyAndKeepsExistingFiles) {
   r = test::runCommand(tool + " " + out + " --frames many");
   EXPECT_NE(r.exitCode, 0);
 
+  // The ground truth written over the rawlog, under another spelling of its path.
+  r = test::runCommand(tool + " " + out + " --gt " + dir + "/./keep.rawlog --frames 3");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("name the same file"), std::string::npos) << r.output;
+
   EXPECT_EQ(readFile(out), "precious");
   EXPECT_EQ(readFile(gtPath), "precious too");
   // No temporary files left behind.

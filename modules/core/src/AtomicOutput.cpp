@@ -116,6 +116,41 @@ void StagedOutputs::commit() {
   committed_ = true;
 }
 
+namespace {
+
+bool sameFile(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::equivalent(a, b, ec)) return true;  // both exist: hard and symbolic links too
+  // An output that does not exist yet is the input only by name. Made absolute first: a
+  // relative path none of whose parts exists would come back unchanged ("a" is not "./a").
+  const auto resolved = [&ec](const std::string& p) {
+    return fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+  };
+  const fs::path ca = resolved(a);
+  if (ec) return false;
+  const fs::path cb = resolved(b);
+  return !ec && ca == cb;
+}
+
+}  // namespace
+
+void rejectPathClashes(const std::vector<NamedPath>& inputs,
+                       const std::vector<NamedPath>& outputs) {
+  for (size_t o = 0; o < outputs.size(); ++o) {
+    const NamedPath& out = outputs[o];
+    if (out.path.empty()) continue;
+    for (const NamedPath& in : inputs)
+      if (!in.path.empty() && sameFile(out.path, in.path))
+        throw std::invalid_argument(out.role + " '" + out.path + "' is the input " + in.role +
+                                    " '" + in.path +
+                                    "': writing it would replace that input; choose another path");
+    for (size_t k = 0; k < o; ++k)
+      if (!outputs[k].path.empty() && sameFile(out.path, outputs[k].path))
+        throw std::invalid_argument(outputs[k].role + " and " + out.role + " name the same file '" +
+                                    out.path + "': one would replace the other; choose two paths");
+  }
+}
+
 void requireWritableFolder(const std::string& target) {
   const std::string dir = folderOf(target);
   if (!fs::is_directory(dir))

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -105,6 +106,11 @@ void TumTrajectoryWriter::commit() {
   if (!impl_->file)
     throw std::runtime_error("write error on trajectory file '" + impl_->out.targetPath() + "'");
   impl_->out.commit();
+}
+
+std::string keyframeTrajectoryPathFor(const std::string& trajectoryPath) {
+  const std::filesystem::path p(trajectoryPath);
+  return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,

@@ -16,11 +16,6 @@ namespace slamdunk::live {
 
 namespace {
 
-std::string keyframePathFor(const std::string& trajectoryPath) {
-  const fs::path p(trajectoryPath);
-  return (p.parent_path() / (p.stem().string() + "_keyframes" + p.extension().string())).string();
-}
-
 /// Writes what it can: each output attempted on its own, the failures listed.
 class OutputAttempts {
  public:
@@ -53,7 +48,7 @@ LiveSlam::LiveSlam(LiveOptions options, std::unique_ptr<FrameSource> source, Liv
     : options_(std::move(options)), source_(std::move(source)), session_(std::move(session)) {
   if (!source_) throw std::invalid_argument("LiveSlam: no frame source");
   if (!session_.trajectory.empty() && session_.keyframes.empty())
-    session_.keyframes = keyframePathFor(session_.trajectory);
+    session_.keyframes = keyframeTrajectoryPathFor(session_.trajectory);
   for (const std::string& out : {session_.trajectory, session_.keyframes, session_.map,
                                  session_.recording, session_.frameLog})
     if (!out.empty()) requireWritableFolder(out);

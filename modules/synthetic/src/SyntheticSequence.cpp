@@ -297,8 +297,8 @@ SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
   sum.rawlogPath = rawlogPath;
   sum.groundTruthPath =
       groundTruthPath.empty() ? defaultSyntheticGroundTruthPath(rawlogPath) : groundTruthPath;
-  if (fs::path(sum.groundTruthPath) == fs::path(rawlogPath))
-    throw std::invalid_argument("the ground truth and the rawlog must be different files");
+  // Compared as files, not as text ("./a.rawlog" and "a.rawlog" are one file).
+  rejectPathClashes({}, {{"the rawlog", rawlogPath}, {"the ground truth", sum.groundTruthPath}});
 
   SyntheticSequence seq(options);  // validates before any file is touched
   sum.frames = seq.size();

@@ -73,6 +73,19 @@ class StagedOutputs {
   bool committed_ = false;
 };
 
+/// A path a tool was given, and how the user gave it ("--gt", "IN.rawlog"); empty = not given.
+struct NamedPath {
+  std::string role;
+  std::string path;
+};
+
+/// Throws std::invalid_argument naming both when an output is the same file as an input (`-t
+/// GT.txt --gt GT.txt` would replace the user's ground truth with the run's trajectory) or as
+/// another output (one would replace the other). Same file: one existing file under two names
+/// (links included), or the same absolute path once symbolic links are resolved. Checked before
+/// a run, so nothing is read that is about to be replaced.
+void rejectPathClashes(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs);
+
 /// Throws std::runtime_error unless the folder of `target` exists and this process may create
 /// files in it (a read-only mount, a folder without write permission): checked before a run
 /// that may take minutes rather than after it.

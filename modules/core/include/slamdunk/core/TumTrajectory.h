@@ -20,6 +20,9 @@ using Trajectory = std::vector<StampedPose>;
 /// +-1e9 m, or a bad quaternion.
 Trajectory readTumTrajectory(const std::string& path);
 
+/// Where the tools put the keyframes' trajectory by default: "OUT_keyframes.txt" beside "OUT.txt".
+std::string keyframeTrajectoryPathFor(const std::string& trajectoryPath);
+
 /// Writes atomically (temporary file + rename): an existing file is replaced only on success.
 /// Timestamps with 6 decimals, positions and quaternions with 9 significant digits.
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
