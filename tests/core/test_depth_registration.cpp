@@ -94,6 +94,35 @@ TEST(DepthRegistration, OffsetCameraAndNearestSurfaceWins) {
   EXPECT_EQ(out.at<uint16_t>(10, 10), 3000);
 }
 
+TEST(DepthRegistration, RotatedColourCameraSeesTheSceneTurned) {
+  // A calibration whose colour axes are turned 1.5 deg about y against the depth camera's (as a
+  // stereo calibration's R gives them), no offset: a box face at 1 m in front of a wall at 3 m.
+  const CameraIntrinsics K = camera(150);
+  cv::Mat depth(K.height, K.width, CV_16U, cv::Scalar(3000));  // millimetres
+  depth(cv::Rect(60, 40, 40, 40)).setTo(1000);
+  mrpt::config::CConfigFileMemory cfg(
+      "[CAMERA]\nfx = 150\nfy = 150\ncx = 80\ncy = 60\nresolution = [160 120]\n"
+      "depth_factor = 1000\n[CAMERA_DEPTH]\nfx = 150\nfy = 150\ncx = 80\ncy = 60\n"
+      "resolution = [160 120]\ncolour_rotation = [0.99965732 0 -0.02617695  0 1 0  "
+      "0.02617695 0 0.99965732]\n");
+  const auto calib = RgbdCameraCalibration::loadFromConfig(cfg);
+  const cv::Mat out = registerDepthToColour(depth, K, K, calib.depthToColour(), 1e-3);
+
+  // The depth camera's box edge at column 60 (the pixel's left border, 59.5), seen by the colour
+  // camera: its ray turned by -1.5 deg about y lands f tan(atan(-20.5 / 150) - 1.5 deg) from the
+  // centre, 3.9 px further left; depths along the turned axis change by < 1 %.
+  const double edge = 80 + 150 * std::tan(std::atan((59.5 - 80) / 150) - mrpt::DEG2RAD(1.5));
+  EXPECT_NEAR(edge, 55.5, 0.05);
+  EXPECT_NEAR(out.at<uint16_t>(60, 57), 1000, 10);  // inside the moved box
+  EXPECT_NEAR(out.at<uint16_t>(60, 54), 3000, 30);  // wall left of it
+  EXPECT_NEAR(out.at<uint16_t>(60, 93), 1000, 10);  // the box's right edge moved left by as much
+  EXPECT_NEAR(out.at<uint16_t>(60, 97), 3000, 30);
+  // Axes parallel (the key left out), the box stays where the depth camera saw it.
+  const cv::Mat same = registerDepthToColour(depth, K, K, Eigen::Isometry3d::Identity(), 1e-3);
+  EXPECT_EQ(same.at<uint16_t>(60, 58), 3000);
+  EXPECT_EQ(same.at<uint16_t>(60, 60), 1000);
+}
+
 TEST(DepthRegistration, ObservationWithSeparateCamerasIsRegistered) {
   // MRPT's convention: images are pixel-aligned only when relativePoseIntensityWRTDepth is the
   // pure axis change; otherwise RgbdFrame registers depth to colour.
@@ -153,6 +182,27 @@ TEST(DepthRegistration, CameraFileDeclaresTheDepthCamera) {
     FAIL() << "unknown key accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("colour_center"), std::string::npos) << e.what();
+  }
+  // The colour axes turned and offset: p_colour = R (p_depth - centre).
+  mrpt::config::CConfigFileMemory turned(
+      "[CAMERA]\nfx = 525\nfy = 525\n[CAMERA_DEPTH]\nfx = 585\nfy = 585\n"
+      "colour_centre = [0.025 0 0]\ncolour_rotation = [0 -1 0  1 0 0  0 0 1]\n");
+  const Eigen::Vector3d inColour =
+      RgbdCameraCalibration::loadFromConfig(turned).depthToColour() * Eigen::Vector3d(1, 2, 3);
+  EXPECT_NEAR((inColour - Eigen::Vector3d(-2, 0.975, 3)).norm(), 0, 1e-12) << inColour;
+  // A matrix that is no rotation: a reflection, a scale, the rows of another matrix.
+  for (const char* wrong :
+       {"[1 0 0  0 1 0  0 0 -1]", "[1.01 0 0  0 1 0  0 0 1]", "[1 0 0 0 1 0 0 0]"}) {
+    mrpt::config::CConfigFileMemory bad(
+        std::string("[CAMERA]\nfx = 525\nfy = 525\n[CAMERA_DEPTH]\nfx = 585\nfy = 585\n"
+                    "colour_rotation = ") +
+        wrong + "\n");
+    try {
+      RgbdCameraCalibration::loadFromConfig(bad);
+      ADD_FAILURE() << wrong << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("colour_rotation"), std::string::npos) << e.what();
+    }
   }
   mrpt::config::CConfigFileMemory zeroFocal(
       "[CAMERA]\nfx = 525\nfy = 525\n[CAMERA_DEPTH]\nfx = 0\n");

@@ -65,6 +65,22 @@ void checkIntrinsics(const CameraIntrinsics& K, const std::string& section) {
     throw std::invalid_argument("[" + section + "] " + bad);
 }
 
+// A rotation matrix given row by row. Calibration tools print R to six or more digits, so
+// anything further than 1e-4 from a rotation is a wrong matrix (a scale, a reflection, a typo),
+// not rounding; what is within is made exactly orthonormal.
+Eigen::Matrix3d readRotation(IniSectionReader& r, const std::string& key) {
+  const auto v = r.readDoubles(key, {1, 0, 0, 0, 1, 0, 0, 0, 1}, 9);
+  const Eigen::Matrix3d R =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data());
+  const double offOrthonormal = (R * R.transpose() - Eigen::Matrix3d::Identity()).norm();
+  if (!(offOrthonormal < 1e-4) || !(R.determinant() > 0))
+    throw std::invalid_argument("[" + r.section() + "] " + key +
+                                " is not a rotation matrix (R R^T differs from the identity by " +
+                                std::to_string(offOrthonormal) + ", determinant " +
+                                std::to_string(R.determinant()) + ")");
+  return Eigen::Quaterniond(R).normalized().toRotationMatrix();
+}
+
 }  // namespace
 
 std::string stampLatencyProblem(double ms) {
@@ -94,6 +110,7 @@ RgbdCameraCalibration RgbdCameraCalibration::loadFromConfig(
     c.depthCamera = readIntrinsics(d);
     const auto centre = d.readDoubles("colour_centre", {0, 0, 0}, 3);
     c.colourCentreInDepth = {centre[0], centre[1], centre[2]};
+    c.depthToColourRotation = readRotation(d, "colour_rotation");
     d.rejectUnknownKeys();
     checkIntrinsics(*c.depthCamera, depthSection);
   }

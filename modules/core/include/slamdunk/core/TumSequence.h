@@ -26,8 +26,11 @@ struct RgbdCameraCalibration {
   double depthFactor = 5000.0;
   /// Set when depth comes from a camera of its own: loadObservation registers it to colour.
   std::optional<CameraIntrinsics> depthCamera;
-  /// The colour camera's centre in the depth camera's optical frame (axes parallel), metres.
+  /// The colour camera's centre in the depth camera's optical frame, metres.
   Eigen::Vector3d colourCentreInDepth = Eigen::Vector3d::Zero();
+  /// Turns a direction in the depth camera's optical frame into the colour camera's (a stereo
+  /// calibration's R); the identity when the two cameras' axes are parallel.
+  Eigen::Matrix3d depthToColourRotation = Eigen::Matrix3d::Identity();
   /// Milliseconds from the middle of the colour image's exposure to its stamp in the source.
   /// The pipeline takes a frame's stamp as that middle (its rolling-shutter rows are timed
   /// around it); a driver that stamps a frame when it has arrived stamps it later, by half the
@@ -37,17 +40,19 @@ struct RgbdCameraCalibration {
   /// The instant a source stamp stands for: the middle of the colour exposure.
   double exposureTime(double sourceStamp) const { return sourceStamp - stampLatencyMs / 1000.0; }
 
-  /// Depth camera frame -> colour camera frame (axes parallel, metres).
+  /// Depth camera frame -> colour camera frame (metres): p_colour = R (p_depth - centre).
   Eigen::Isometry3d depthToColour() const {
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.translation() = -colourCentreInDepth;
+    t.linear() = depthToColourRotation;
+    t.translation() = -(depthToColourRotation * colourCentreInDepth);
     return t;
   }
 
   /// Reads section [CAMERA] (the colour camera): resolution = [w h], fx, fy, cx, cy,
   /// dist = [k1 k2 p1 p2 k3], depth_factor, stamp_latency_ms (default 0); and the optional section
   /// [CAMERA_DEPTH] (a depth camera whose images are not registered to colour): resolution, fx, fy,
-  /// cx, cy, dist, colour_centre = [x y z]. Unknown keys and malformed values are errors naming the
+  /// cx, cy, dist, colour_centre = [x y z], colour_rotation = [9 numbers, R row by row; default
+  /// the identity]. Unknown keys and malformed values are errors naming the
   /// key.
   static RgbdCameraCalibration loadFromIni(const std::string& path);
   static RgbdCameraCalibration loadFromConfig(const mrpt::config::CConfigFileBase& cfg,
