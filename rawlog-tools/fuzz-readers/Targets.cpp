@@ -550,6 +550,7 @@ RgbdCameraCalibration tumCalibration(uint64_t variant) {
     d.fx = d.fy = 6.0;
     c.depthCamera = d;
     c.colourCentreInDepth = Eigen::Vector3d(0.025, 0, 0);
+    c.depthToColourRotation = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()).toRotationMatrix();
   }
   return c;
 }
