@@ -51,9 +51,8 @@ struct RgbdCameraCalibration {
   /// Reads section [CAMERA] (the colour camera): resolution = [w h], fx, fy, cx, cy,
   /// dist = [k1 k2 p1 p2 k3], depth_factor, stamp_latency_ms (default 0); and the optional section
   /// [CAMERA_DEPTH] (a depth camera whose images are not registered to colour): resolution, fx, fy,
-  /// cx, cy, dist, colour_centre = [x y z], colour_rotation = [9 numbers, R row by row; default
-  /// the identity]. Unknown keys and malformed values are errors naming the
-  /// key.
+  /// cx, cy, dist, colour_centre = [x y z], colour_rotation = [R row by row] (default the
+  /// identity). Unknown keys and malformed values are errors naming the key.
   static RgbdCameraCalibration loadFromIni(const std::string& path);
   static RgbdCameraCalibration loadFromConfig(const mrpt::config::CConfigFileBase& cfg,
                                               const std::string& section = "CAMERA");
