@@ -28,6 +28,7 @@ std::string defaultGroundTruthPath(const std::string& rawlogPath) {
 
 TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
                                       const std::function<void(size_t, size_t)>& progress) {
+  if (opts.stride < 1) throw std::invalid_argument("stride must be at least 1");
   const TumSequence seq(opts.sequenceFolder, opts.maxDifference);
   const std::string groundTruthPath =
       opts.groundTruthPath.empty() ? defaultGroundTruthPath(opts.rawlogPath) : opts.groundTruthPath;
@@ -44,20 +45,23 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
                              "' associates within " + std::to_string(opts.maxDifference) + " s");
 
   TumToRawlogSummary sum;
-  const size_t n =
-      opts.maxFrames ? std::min(opts.maxFrames, seq.frames().size()) : seq.frames().size();
+  // The associated frames converted, in order: every stride-th, at most maxFrames of them.
+  std::vector<size_t> kept;
+  for (size_t i = 0; i < seq.frames().size(); i += opts.stride) kept.push_back(i);
+  if (opts.maxFrames && kept.size() > opts.maxFrames) kept.resize(opts.maxFrames);
+  const size_t n = kept.size();
   sum.rgbUnpaired = seq.rgbCount() - seq.frames().size();
   sum.depthUnpaired = seq.depthCount() - seq.frames().size();
   const RgbdCameraCalibration& calib = opts.calibration;
   sum.firstStamp = calib.exposureTime(seq.frames().front().rgbStamp);
-  sum.lastStamp = calib.exposureTime(seq.frames()[n - 1].rgbStamp);
+  sum.lastStamp = calib.exposureTime(seq.frames()[kept.back()].rgbStamp);
 
   // Ground-truth pose per frame (nearest stamp, TUM association) for the optional observations.
   std::vector<int> gtIndexOfFrame(n, -1);
   if (opts.groundTruthObservations && seq.hasGroundTruth()) {
     std::vector<double> frameStamps, gtStamps;
     for (size_t i = 0; i < n; ++i)
-      frameStamps.push_back(calib.exposureTime(seq.frames()[i].rgbStamp));
+      frameStamps.push_back(calib.exposureTime(seq.frames()[kept[i]].rgbStamp));
     for (const auto& p : seq.groundTruth()) gtStamps.push_back(p.timestamp);
     for (const auto& [i, j] : associateTimestamps(frameStamps, gtStamps, opts.maxDifference))
       gtIndexOfFrame[i] = static_cast<int>(j);
@@ -75,12 +79,12 @@ TumToRawlogSummary convertTumToRawlog(const TumToRawlogOptions& opts,
       throw std::runtime_error("cannot write rawlog '" + opts.rawlogPath + "'");
     auto archive = mrpt::serialization::archiveFrom(file);
     for (size_t i = 0; i < n; ++i) {
-      auto obs = seq.loadObservation(i, opts.calibration);
+      auto obs = seq.loadObservation(kept[i], opts.calibration);
       if (images) {
         char frameName[64];
         // The colour file is copied byte for byte (no re-encoding); depth goes to MRPT's own
         // external matrix format, which keeps the raw 16-bit values.
-        const fs::path rgbSrc(seq.frames()[i].rgbFile);
+        const fs::path rgbSrc(seq.frames()[kept[i]].rgbFile);
         std::snprintf(frameName, sizeof(frameName), "%06zu_rgb", i);
         const std::string rgbName = frameName + rgbSrc.extension().string();
         fs::copy_file(rgbSrc, fs::path(images->tempPath()) / rgbName);

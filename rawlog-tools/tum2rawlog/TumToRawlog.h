@@ -17,6 +17,9 @@ struct TumToRawlogOptions {
   bool groundTruthObservations = false;  ///< also a CObservationRobotPose per frame
   double maxDifference = 0.02;
   size_t maxFrames = 0;  ///< 0 = all
+  /// Keep every stride-th associated frame (1 = all): the same motion at a lower frame rate,
+  /// so stride times the motion between frames, as a faster hand would give.
+  size_t stride = 1;
 };
 
 struct TumToRawlogSummary {

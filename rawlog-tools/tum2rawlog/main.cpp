@@ -47,6 +47,11 @@ int main(int argc, char** argv) {
                                      false, 0.02, "SECONDS", cmd);
     TCLAP::ValueArg<size_t> argMaxFrames("", "max-frames", "convert at most N frames (0 = all)",
                                          false, 0, "N", cmd);
+    TCLAP::ValueArg<size_t> argStride(
+        "", "stride",
+        "keep every N-th frame (1 = all): the same motion at 1/N the frame rate, N times the "
+        "motion between frames, as a faster hand would give",
+        false, 1, "N", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no progress output", cmd);
     if (const auto exitCode = slamdunk::parseCommandLine(cmd, argc, argv, "tum2rawlog"))
       return *exitCode;
@@ -59,6 +64,8 @@ int main(int argc, char** argv) {
     opts.groundTruthObservations = argGtObs.getValue();
     opts.maxDifference = argMaxDt.getValue();
     opts.maxFrames = argMaxFrames.getValue();
+    opts.stride = argStride.getValue();
+    if (opts.stride < 1) throw std::invalid_argument("--stride must be at least 1");
     if (!(opts.maxDifference > 0)) throw std::invalid_argument("--max-dt must be positive");
     if (argCamera.isSet()) {
       opts.calibration = slamdunk::RgbdCameraCalibration::loadFromIni(argCamera.getValue());

@@ -9,15 +9,16 @@ out=$3
 src=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$out"
 
-convert() {  # convert NAME SEQ_DIR CAMERA_INI
+convert() {  # convert NAME SEQ_DIR CAMERA_INI [EXTRA_ARGS...]
   local name=$1 seq=$data/$2 cam=$src/config-ini/cameras/$3
+  shift 3
   if [ ! -d "$seq" ]; then
     echo "prepare-test-data: $seq not found: tests on $name will be skipped"
     return
   fi
   # Converted again when the camera file changed (it decides the depth registration).
   if [ "$out/$name.rawlog" -nt "$cam" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
-  "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q
+  "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q "$@"
 }
 
 synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
@@ -29,6 +30,8 @@ synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
 
 convert 7scenes 7scenes/seq-1000f 7scenes.ini
 convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
+# The same hand at a third of the frame rate: three times the motion between frames.
+convert fr1_xyz_400f_stride3 tum/fr1_xyz_400f tum-fr1.ini --stride 3
 convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
 convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
 synthetic synthetic_loop loop

@@ -162,6 +162,33 @@ TEST(Tum2Rawlog, SevenScenesOpensInRawlogEdit) {
       << r.output;
   EXPECT_NE(r.output.find("RGBD /   1000"), std::string::npos) << r.output;
 }
+// --stride N keeps every N-th associated pair (the same motion at 1/N the frame rate), counted
+// before --max-frames.
+TEST(Tum2Rawlog, StrideKeepsEveryNthFrame) {
+  SLAMDUNK_REQUIRE_DATA(seq, "tum/fr1_desk_9f");
+  const std::string dir = test::scratchDir("Tum2Rawlog_Stride");
+  const auto calib = RgbdCameraCalibration::loadFromIni(cameraFor("tum/fr1_desk_9f"));
+  const auto rgb = readList(seq + "/rgb.txt");  // every colour image of this set has its depth
+  ASSERT_EQ(rgb.size(), 9u);
+  auto stampsOf = [&](const std::string& extra) {
+    const std::string rawlog = dir + "/seq.rawlog";
+    const auto r =
+        test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " + quote(rawlog) +
+                         " --camera " + quote(cameraFor("tum/fr1_desk_9f")) + " -q " + extra);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    std::vector<double> stamps;
+    RawlogReader reader(rawlog);
+    while (auto obs = reader.next())
+      stamps.push_back(mrpt::Clock::toDouble(obs->timestamp) + calib.stampLatencyMs / 1000.0);
+    return stamps;
+  };
+  const auto third = stampsOf("--stride 3");
+  ASSERT_EQ(third.size(), 3u);
+  for (size_t k = 0; k < third.size(); ++k) EXPECT_NEAR(third[k], rgb[3 * k].stamp, 1e-6) << k;
+  const auto limited = stampsOf("--stride 4 --max-frames 2");
+  ASSERT_EQ(limited.size(), 2u);
+  EXPECT_NEAR(limited[1], rgb[4].stamp, 1e-6);
+}
 
 // ---------------------------------------------------------------- bad input
 
@@ -242,6 +269,10 @@ TEST_F(Tum2RawlogBadInput, UnknownCameraKey) {
   const std::string ini = fs::path(seq).parent_path().string() + "/cam.ini";
   std::ofstream(ini) << "[CAMERA]\nfx = 500\nfy = 500\ncx = 320\ncy = 240\nfocal = 3\n";
   expectFailure(convert(seq, out, "--camera " + quote(ini)), "focal");
+}
+
+TEST_F(Tum2RawlogBadInput, ZeroStride) {
+  expectFailure(convert(seq, out, "--stride 0"), "--stride");
 }
 
 TEST_F(Tum2RawlogBadInput, MissingSequenceFolder) {
