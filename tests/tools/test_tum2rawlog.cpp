@@ -162,6 +162,7 @@ TEST(Tum2Rawlog, SevenScenesOpensInRawlogEdit) {
       << r.output;
   EXPECT_NE(r.output.find("RGBD /   1000"), std::string::npos) << r.output;
 }
+
 // --stride N keeps every N-th associated pair (the same motion at 1/N the frame rate), counted
 // before --max-frames.
 TEST(Tum2Rawlog, StrideKeepsEveryNthFrame) {
