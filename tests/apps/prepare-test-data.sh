@@ -30,8 +30,10 @@ synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
 
 convert 7scenes 7scenes/seq-1000f 7scenes.ini
 convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
-# The same hand at a third of the frame rate: three times the motion between frames.
+# The same hand at a third and a sixth of the frame rate: three and six times the motion between
+# frames.
 convert fr1_xyz_400f_stride3 tum/fr1_xyz_400f tum-fr1.ini --stride 3
+convert fr1_xyz_400f_stride6 tum/fr1_xyz_400f tum-fr1.ini --stride 6
 convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
 convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
 synthetic synthetic_loop loop
