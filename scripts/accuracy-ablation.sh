@@ -26,6 +26,8 @@ configs=(
   "window follows position only (window_shift_angle = 0)|window_shift_angle=0"
   "textured_cell_features = 6|textured_cell_features=6"
   "velocity prior always at its widest (velocity_prior_adaptive = false)|velocity_prior_adaptive=false"
+  "fewer keyframes (keyframe_overlap = 0.7)|keyframe_overlap=0.7"
+  "more keyframes (keyframe_overlap = 0.9)|keyframe_overlap=0.9"
   "all of edge, not learned, no velocity, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false estimate_frame_velocity=false window_shift_angle=0"
 )
 
