@@ -20,21 +20,21 @@ prepare() {  # prepare NAME SEQ CAMERA
   "$bin/tum2rawlog" "$data/$2" "$work/$1.rawlog" --camera "config-ini/cameras/$3" \
     --external-images -q >/dev/null
 }
-[ -f "$work/synthetic_loop.rawlog" ] || "$bin/synthetic-rgbd" "$work/synthetic_loop.rawlog" -q >/dev/null
-[ -f "$work/synthetic_loop_kinect.rawlog" ] ||
-  "$bin/synthetic-rgbd" "$work/synthetic_loop_kinect.rawlog" --kinect-depth -q >/dev/null
+# Exact and Kinect-like depth from one render (--kinect-twin: the twin is byte for byte what
+# --kinect-depth alone renders).
+[ -f "$work/synthetic_loop.rawlog" ] && [ -f "$work/synthetic_loop_kinect.rawlog" ] ||
+  "$bin/synthetic-rgbd" "$work/synthetic_loop.rawlog" \
+    --kinect-twin "$work/synthetic_loop_kinect.rawlog" -q >/dev/null
 # Hand-held motion through a hand-held camera (blur, 20 ms rolling shutter, auto exposure, depth
 # 5 ms after colour): as tests/apps/prepare-test-data.sh renders them. The scan (2.5 minutes)
 # only with HANDHELD_SCAN=1: rendering it takes long.
 handheld=(rotations shake)
 [ -n "${HANDHELD_SCAN:-}" ] && handheld+=(scan)
 for t in "${handheld[@]}"; do
-  for depth in exact kinect; do
-    name=handheld_${t}_$depth
-    extra=(); [ $depth = kinect ] && extra=(--kinect-depth)
-    [ -f "$work/$name.rawlog" ] || "$bin/synthetic-rgbd" "$work/$name.rawlog" --trajectory "$t" \
-      --hand-held --supersampling 1 --external-images "${extra[@]}" -q >/dev/null
-  done
+  name=handheld_$t
+  [ -f "$work/${name}_exact.rawlog" ] && [ -f "$work/${name}_kinect.rawlog" ] ||
+    "$bin/synthetic-rgbd" "$work/${name}_exact.rawlog" --kinect-twin "$work/${name}_kinect.rawlog" \
+      --trajectory "$t" --hand-held --supersampling 1 --external-images -q >/dev/null
 done
 prepare 7scenes 7scenes/seq-1000f 7scenes.ini || true
 prepare fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini || true

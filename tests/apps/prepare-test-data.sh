@@ -28,25 +28,49 @@ synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
   "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" -q "$@"
 }
 
-convert 7scenes 7scenes/seq-1000f 7scenes.ini
-convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
-# The same hand at a third and a sixth of the frame rate: three and six times the motion between
-# frames.
-convert fr1_xyz_400f_stride3 tum/fr1_xyz_400f tum-fr1.ini --stride 3
-convert fr1_xyz_400f_stride6 tum/fr1_xyz_400f tum-fr1.ini --stride 6
-convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
-convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
-synthetic synthetic_loop loop
-synthetic synthetic_sweep sweep
-synthetic synthetic_loop_kinect loop --kinect-depth
+synthetic_pair() {  # synthetic_pair NAME TRAJECTORY [EXTRA_ARGS...]: NAME and NAME_kinect
+  local name=$1 trajectory=$2
+  shift 2
+  if [ -f "$out/$name.rawlog" ] && [ -f "$out/${name}_kinect.rawlog" ]; then
+    echo "prepare-test-data: $name.rawlog and ${name}_kinect.rawlog ready"
+    return
+  fi
+  # One render for both: the twin is byte for byte what --kinect-depth alone would write.
+  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" \
+    --kinect-twin "$out/${name}_kinect.rawlog" -q "$@"
+}
+
+# Independent jobs, as many at once as there are cores, the longest first: run one after the
+# other they took 21 minutes of a CI run while the rest of the suite waited for them. A failed
+# job is named in $failed and fails the whole preparation once every job has ended.
+failed=$out/.failed-jobs
+rm -f "$failed"
+max_jobs=$(nproc 2>/dev/null || echo 2)
+start_job() {  # start_job COMMAND...
+  while [ "$(jobs -rp | wc -l)" -ge "$max_jobs" ]; do wait -n || true; done
+  ( "$@" || echo "$*" >>"$failed" ) &
+}
+
 # Hand-held motion through a hand-held camera (blur, rolling shutter, auto exposure, depth offset;
 # the exposure averages several renders, which also smooths edges: no supersampling needed).
-# The 2.5-minute scan (4500 frames, about 7 minutes each to render) keeps its images beside the
-# rawlog, which then stays small enough to read quickly.
-for t in rotations shake scan; do
-  images=()
-  [ "$t" = scan ] && images=(--external-images)
-  synthetic handheld_$t $t --hand-held --supersampling 1 "${images[@]}"
-  synthetic handheld_${t}_kinect $t --hand-held --supersampling 1 --kinect-depth "${images[@]}"
-done
+# The 2.5-minute scan (4500 frames, about 5 minutes to render the pair) keeps its images beside
+# the rawlog, which then stays small enough to read quickly.
+start_job synthetic_pair handheld_scan scan --hand-held --supersampling 1 --external-images
+start_job convert 7scenes 7scenes/seq-1000f 7scenes.ini
+start_job synthetic_pair handheld_rotations rotations --hand-held --supersampling 1
+start_job synthetic_pair handheld_shake shake --hand-held --supersampling 1
+start_job synthetic_pair synthetic_loop loop
+start_job synthetic synthetic_sweep sweep
+start_job convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
+# The same hand at a third and a sixth of the frame rate: three and six times the motion between
+# frames.
+start_job convert fr1_xyz_400f_stride3 tum/fr1_xyz_400f tum-fr1.ini --stride 3
+start_job convert fr1_xyz_400f_stride6 tum/fr1_xyz_400f tum-fr1.ini --stride 6
+start_job convert fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini
+start_job convert fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini
+wait
+if [ -f "$failed" ]; then
+  echo "prepare-test-data: failed: $(tr '\n' ';' <"$failed")" >&2
+  exit 1
+fi
 ls -l "$out"

@@ -63,6 +63,54 @@ TEST(SyntheticRgbdTool, ExternalImagesAndCustomGroundTruthPath) {
   EXPECT_EQ(n, 3u);
 }
 
+// The twin is what --kinect-depth renders, byte for byte (rawlog, images, ground truth), and the
+// exact-depth sequence beside it is what a run without the twin renders.
+TEST(SyntheticRgbdTool, KinectTwinIsTheKinectDepthSequence) {
+  const std::string dir = test::scratchDir("synthetic_tool_twin");
+  const std::string tool = test::toolPath("synthetic-rgbd");
+  const std::string common =
+      " --trajectory shake --frames 6 --hand-held --supersampling 1 "
+      "--external-images -q";
+  auto r = test::runCommand(tool + " " + dir + "/exact.rawlog --kinect-twin " + dir +
+                            "/twin.rawlog" + common);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = test::runCommand(tool + " " + dir + "/alone.rawlog" + common);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = test::runCommand(tool + " " + dir + "/kinect.rawlog --kinect-depth" + common);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+
+  auto expectSameSequence = [&](const std::string& a, const std::string& b) {
+    SCOPED_TRACE(a + " vs " + b);
+    EXPECT_EQ(readFile(dir + "/" + a + ".rawlog"), readFile(dir + "/" + b + ".rawlog"));
+    EXPECT_EQ(readFile(dir + "/" + a + "_groundtruth.txt"),
+              readFile(dir + "/" + b + "_groundtruth.txt"));
+    size_t files = 0;
+    for (const auto& e : fs::directory_iterator(dir + "/" + a + "_Images")) {
+      const std::string other = dir + "/" + b + "_Images/" + e.path().filename().string();
+      ASSERT_TRUE(fs::exists(other)) << other;
+      EXPECT_EQ(readFile(e.path().string()), readFile(other)) << e.path();
+      ++files;
+    }
+    EXPECT_EQ(files, 12u);  // 6 colour PNGs, 6 depth matrices
+  };
+  expectSameSequence("twin", "kinect");
+  expectSameSequence("exact", "alone");
+  // And the twin's depth really is the Kinect's, not the exact one.
+  EXPECT_NE(readFile(dir + "/twin_Images/000003_depth.bin"),
+            readFile(dir + "/exact_Images/000003_depth.bin"));
+
+  r = test::runCommand(tool + " " + dir + "/k2.rawlog --kinect-depth --kinect-twin " + dir +
+                       "/t2.rawlog --frames 3 -q");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--kinect-twin and --kinect-depth"), std::string::npos) << r.output;
+  r = test::runCommand(tool + " " + dir + "/k3.rawlog --kinect-twin " + dir +
+                       "/./k3.rawlog --frames 3 -q");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("name the same file"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/k2.rawlog"));
+  EXPECT_FALSE(fs::exists(dir + "/k3.rawlog"));
+}
+
 TEST(SyntheticRgbdTool, BadOptionFailsClearlyAndKeepsExistingFiles) {
   const std::string dir = test::scratchDir("synthetic_tool_bad");
   const std::string out = dir + "/keep.rawlog", gtPath = dir + "/keep_groundtruth.txt";

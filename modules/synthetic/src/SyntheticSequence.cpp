@@ -14,8 +14,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -205,7 +208,8 @@ cv::Mat SyntheticSequence::renderMotion(size_t i) {
   return sum;
 }
 
-void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
+void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw,
+                                  cv::Mat* kinectTwinDepthRaw) {
   if (i >= size())
     throw std::out_of_range("synthetic frame " + std::to_string(i) + " of " +
                             std::to_string(size()));
@@ -221,8 +225,17 @@ void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
     renderer_->render(scene_->scene(), groundTruth_[i].pose, colour, unused);
   // Gain, then 8 bits (saturating at white).
   colour.convertTo(bgr, CV_8UC3, exposureGain(i));
-  if (options_.kinectDepth)
-    depth = kinectDepth(depth, options_.fx, frameSeed(options_.seed, i) + 1);
+  if (kinectTwinDepthRaw) {
+    if (options_.kinectDepth)
+      throw std::logic_error("synthetic sequence: a Kinect twin of Kinect depth was asked for");
+    *kinectTwinDepthRaw = measuredDepth(i, depth, true);
+  }
+  depthRaw = measuredDepth(i, depth, options_.kinectDepth);
+}
+
+cv::Mat SyntheticSequence::measuredDepth(size_t i, const cv::Mat& exactDepth, bool kinect) const {
+  cv::Mat depth = kinect ? kinectDepth(exactDepth, options_.fx, frameSeed(options_.seed, i) + 1)
+                         : exactDepth.clone();
   if (options_.depthNoiseSigma > 0) {
     cv::RNG rng(frameSeed(options_.seed, i));
     cv::Mat noise(depth.size(), CV_32F);
@@ -234,7 +247,9 @@ void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw) {
   }
   // TUM raw units (0.2 mm), rounded to nearest; 0 = no surface. Depth is below the far clip
   // (12 m = 60000 units), so it always fits in 16 bits.
-  depth.convertTo(depthRaw, CV_16U, kDepthFactor);
+  cv::Mat raw;
+  depth.convertTo(raw, CV_16U, kDepthFactor);
+  return raw;
 }
 
 void SyntheticSequence::renderImages(size_t i, cv::Mat& bgr, cv::Mat& depthMetres) {
@@ -243,10 +258,16 @@ void SyntheticSequence::renderImages(size_t i, cv::Mat& bgr, cv::Mat& depthMetre
   raw.convertTo(depthMetres, CV_32F, 1.0 / kDepthFactor);
 }
 
-mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::renderFrame(size_t i) {
-  cv::Mat bgr, raw;
-  renderRaw(i, bgr, raw);
+mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::renderFrame(
+    size_t i, mrpt::obs::CObservation3DRangeScan::Ptr* kinectTwin) {
+  cv::Mat bgr, raw, twinRaw;
+  renderRaw(i, bgr, raw, kinectTwin ? &twinRaw : nullptr);
+  if (kinectTwin) *kinectTwin = observation(i, bgr, twinRaw);
+  return observation(i, bgr, raw);
+}
 
+mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::observation(size_t i, const cv::Mat& bgr,
+                                                                       const cv::Mat& raw) const {
   auto obs = mrpt::obs::CObservation3DRangeScan::Create();
   obs->sensorLabel = kSensorLabel;
   obs->timestamp = mrpt::Clock::fromDouble(groundTruth_[i].timestamp);
@@ -288,64 +309,123 @@ std::string defaultSyntheticGroundTruthPath(const std::string& rawlogPath) {
   return (p.parent_path() / (stem + "_groundtruth.txt")).string();
 }
 
+namespace {
+
+/// One output rawlog, and its images folder with external images; replaced only by commit().
+class SyntheticRawlogWriter {
+ public:
+  SyntheticRawlogWriter(const std::string& rawlogPath, bool externalImages) : out_(rawlogPath) {
+    if (externalImages) {
+      imagesFolder_ = RawlogReader::imagesDirectoryFor(rawlogPath);
+      images_ = std::make_unique<AtomicOutputFolder>(imagesFolder_);
+    }
+    if (!file_.open(out_.tempPath()))
+      throw std::runtime_error("cannot write rawlog '" + rawlogPath + "'");
+  }
+
+  const std::string& imagesFolder() const { return imagesFolder_; }
+
+  /// Appends frame i. With external images, a colour PNG another writer already made of the
+  /// same image (colourPng) is copied instead of encoded again. Returns this writer's PNG.
+  std::string write(mrpt::obs::CObservation3DRangeScan& obs, size_t i,
+                    const std::string& colourPng = {}) {
+    std::string rgbFile;
+    if (images_) {
+      // Same layout as tum2rawlog: colour as PNG (lossless), depth as MRPT's external matrix
+      // (raw 16-bit values), names relative to the images folder.
+      char name[64];
+      std::snprintf(name, sizeof(name), "%06zu_rgb.png", i);
+      rgbFile = (fs::path(images_->tempPath()) / name).string();
+      if (!colourPng.empty())
+        fs::copy_file(colourPng, rgbFile);
+      else if (!cv::imwrite(rgbFile, obs.intensityImage.asCvMatRef()))
+        throw std::runtime_error("cannot write image '" + rgbFile + "'");
+      obs.intensityImage.setExternalStorage(name);
+      std::snprintf(name, sizeof(name), "%06zu_depth.bin", i);
+      obs.rangeImage_convertToExternalStorage(name, images_->tempPath() + "/");
+    }
+    auto archive = mrpt::serialization::archiveFrom(file_);
+    archive << obs;
+    return rgbFile;
+  }
+
+  void close() { file_.close(); }
+  void commit() {
+    if (images_) images_->commit();
+    out_.commit();
+  }
+
+ private:
+  AtomicOutput out_;
+  std::unique_ptr<AtomicOutputFolder> images_;
+  std::string imagesFolder_;
+  mrpt::io::CFileGZOutputStream file_;
+};
+
+}  // namespace
+
 SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
                                                 const std::string& rawlogPath,
                                                 const std::string& groundTruthPath,
-                                                const ProgressCallback& progress) {
+                                                const ProgressCallback& progress,
+                                                const std::string& kinectTwinRawlogPath) {
   if (rawlogPath.empty()) throw std::invalid_argument("no output rawlog path given");
+  const bool twin = !kinectTwinRawlogPath.empty();
+  if (twin && options.kinectDepth)
+    throw std::invalid_argument(
+        "a Kinect-depth twin needs a sequence of its own depth (drop --kinect-depth)");
   SyntheticSequenceSummary sum;
   sum.rawlogPath = rawlogPath;
   sum.groundTruthPath =
       groundTruthPath.empty() ? defaultSyntheticGroundTruthPath(rawlogPath) : groundTruthPath;
+  std::vector<NamedPath> outputs{{"the rawlog", rawlogPath},
+                                 {"the ground truth", sum.groundTruthPath}};
+  if (twin) {
+    sum.kinectTwinRawlogPath = kinectTwinRawlogPath;
+    sum.kinectTwinGroundTruthPath = defaultSyntheticGroundTruthPath(kinectTwinRawlogPath);
+    outputs.push_back({"the Kinect twin's rawlog", kinectTwinRawlogPath});
+    outputs.push_back({"the Kinect twin's ground truth", sum.kinectTwinGroundTruthPath});
+    if (options.externalImages) {
+      outputs.push_back({"the images folder", RawlogReader::imagesDirectoryFor(rawlogPath)});
+      outputs.push_back({"the Kinect twin's images folder",
+                         RawlogReader::imagesDirectoryFor(kinectTwinRawlogPath)});
+    }
+  }
   // Compared as files, not as text ("./a.rawlog" and "a.rawlog" are one file).
-  rejectPathClashes({}, {{"the rawlog", rawlogPath}, {"the ground truth", sum.groundTruthPath}});
+  rejectPathClashes({}, outputs);
 
   SyntheticSequence seq(options);  // validates before any file is touched
   sum.frames = seq.size();
   sum.scene = seq.scene().plan().name;
   sum.stats = SyntheticTrajectory::stats(seq.groundTruth());
 
-  AtomicOutput rawlogOut(rawlogPath);
-  std::unique_ptr<AtomicOutputFolder> images;
-  if (options.externalImages) {
-    sum.imagesFolder = RawlogReader::imagesDirectoryFor(rawlogPath);
-    images = std::make_unique<AtomicOutputFolder>(sum.imagesFolder);
+  SyntheticRawlogWriter writer(rawlogPath, options.externalImages);
+  std::unique_ptr<SyntheticRawlogWriter> twinWriter;
+  if (twin)
+    twinWriter =
+        std::make_unique<SyntheticRawlogWriter>(kinectTwinRawlogPath, options.externalImages);
+  sum.imagesFolder = writer.imagesFolder();
+  for (size_t i = 0; i < seq.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    mrpt::obs::CObservation3DRangeScan::Ptr twinObs;
+    auto obs = seq.renderFrame(i, twin ? &twinObs : nullptr);
+    sum.renderSeconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string colourPng = writer.write(*obs, i);
+    if (twinWriter) twinWriter->write(*twinObs, i, colourPng);
+    if (progress) progress(i + 1, seq.size());
   }
-  {
-    mrpt::io::CFileGZOutputStream file;
-    if (!file.open(rawlogOut.tempPath()))
-      throw std::runtime_error("cannot write rawlog '" + rawlogPath + "'");
-    auto archive = mrpt::serialization::archiveFrom(file);
-    for (size_t i = 0; i < seq.size(); ++i) {
-      const auto start = std::chrono::steady_clock::now();
-      auto obs = seq.renderFrame(i);
-      sum.renderSeconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (images) {
-        // Same layout as tum2rawlog: colour as PNG (lossless), depth as MRPT's external matrix
-        // (raw 16-bit values), names relative to the images folder.
-        char name[64];
-        std::snprintf(name, sizeof(name), "%06zu_rgb.png", i);
-        const std::string rgbFile = (fs::path(images->tempPath()) / name).string();
-        if (!cv::imwrite(rgbFile, obs->intensityImage.asCvMatRef()))
-          throw std::runtime_error("cannot write image '" + rgbFile + "'");
-        obs->intensityImage.setExternalStorage(name);
-        std::snprintf(name, sizeof(name), "%06zu_depth.bin", i);
-        obs->rangeImage_convertToExternalStorage(name, images->tempPath() + "/");
-      }
-      archive << *obs;
-      if (progress) progress(i + 1, seq.size());
-    }
-    file.close();
-  }
+  writer.close();
+  if (twinWriter) twinWriter->close();
   // Ground truth first: if it fails, neither the rawlog nor the images have been replaced.
-  writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(),
-                     "synthetic RGB-D ground truth: trajectory '" + options.trajectory +
-                         "', seed " + std::to_string(options.seed) +
-                         " (optical frame T_w_opt, world y down, floor at y = " +
-                         std::to_string(seq.scene().plan().floorY) + ")");
-  if (images) images->commit();
-  rawlogOut.commit();
+  const std::string comment = "synthetic RGB-D ground truth: trajectory '" + options.trajectory +
+                              "', seed " + std::to_string(options.seed) +
+                              " (optical frame T_w_opt, world y down, floor at y = " +
+                              std::to_string(seq.scene().plan().floorY) + ")";
+  writeTumTrajectory(sum.groundTruthPath, seq.groundTruth(), comment);
+  if (twinWriter) writeTumTrajectory(sum.kinectTwinGroundTruthPath, seq.groundTruth(), comment);
+  writer.commit();
+  if (twinWriter) twinWriter->commit();
   return sum;
 }
 

@@ -84,14 +84,22 @@ class SyntheticSequence {
   /// random-looking drift between about 0.6 and 1.5, seeded.
   double exposureGain(size_t i) const;
 
-  /// Frame i as an observation (colour and depth in memory).
-  mrpt::obs::CObservation3DRangeScan::Ptr renderFrame(size_t i);
+  /// Frame i as an observation (colour and depth in memory). With kinectTwin (only for a
+  /// sequence without kinectDepth), also the same frame as the sequence with kinectDepth on
+  /// renders it: identical colour, Kinect-like depth, from one render.
+  mrpt::obs::CObservation3DRangeScan::Ptr renderFrame(
+      size_t i, mrpt::obs::CObservation3DRangeScan::Ptr* kinectTwin = nullptr);
   /// Frame i as images: BGR CV_8UC3 and z-depth CV_32F metres (already quantised to 1/5000 m
   /// and noisy exactly as in the observation).
   void renderImages(size_t i, cv::Mat& bgr, cv::Mat& depthMetres);
 
  private:
-  void renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw);
+  void renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw, cv::Mat* kinectTwinDepthRaw = nullptr);
+  /// Raw depth (CV_16U) the sensor reports of frame i's exact depth: Kinect-like or exact, plus
+  /// the optional Gaussian noise.
+  cv::Mat measuredDepth(size_t i, const cv::Mat& exactDepth, bool kinect) const;
+  mrpt::obs::CObservation3DRangeScan::Ptr observation(size_t i, const cv::Mat& bgr,
+                                                      const cv::Mat& depthRaw) const;
   /// Colour exposed over time: blur and rolling shutter from renders at sub-frame poses.
   cv::Mat renderMotion(size_t i);
   /// Largest image motion (px) of scene points 2 m away between two (fractional) frames.
@@ -115,6 +123,7 @@ struct SyntheticSequenceSummary {
   std::string scene;  ///< FloorPlan name
   TrajectoryStats stats;
   std::string rawlogPath, groundTruthPath, imagesFolder;
+  std::string kinectTwinRawlogPath, kinectTwinGroundTruthPath;  ///< empty without a twin
   double renderSeconds = 0;  ///< wall time spent rendering (all frames)
 };
 
@@ -125,9 +134,13 @@ std::string defaultSyntheticGroundTruthPath(const std::string& rawlogPath);
 /// (TUM, optical frame) to groundTruthPath (empty = default path). Existing files are replaced
 /// only when everything succeeded. With options.externalImages, colour PNGs and MRPT external
 /// depth matrices go to "<dir>/<name>_Images/" (also swapped in only on success).
+/// kinectTwinRawlogPath (non-empty, options without kinectDepth): also writes the sequence that
+/// options with kinectDepth on would give, byte for byte, there (ground truth at its default
+/// path), rendering each frame once for both: the exact- and Kinect-depth pair in half the time.
 SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
                                                 const std::string& rawlogPath,
                                                 const std::string& groundTruthPath = {},
-                                                const ProgressCallback& progress = {});
+                                                const ProgressCallback& progress = {},
+                                                const std::string& kinectTwinRawlogPath = {});
 
 }  // namespace slamdunk
