@@ -89,6 +89,11 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<double> argDepthOffset(
         "", "depth-offset-ms", "depth captured this long after colour (negative: before)", false,
         0.0, "MS", cmd);
+    TCLAP::ValueArg<double> argFocalError(
+        "", "stated-focal-error",
+        "the rawlog states focal lengths this many percent larger than the rendering's: a "
+        "camera known by its nominal intrinsics, not calibrated (default 0)",
+        false, 0.0, "PERCENT", cmd);
     TCLAP::SwitchArg argHandHeld(
         "", "hand-held",
         "the hand-held camera preset: --exposure-ms 10 --rolling-shutter-ms 20 --auto-exposure "
@@ -111,6 +116,7 @@ int main(int argc, char** argv) {
     if (argRollingShutter.isSet()) opts.rollingShutterMs = argRollingShutter.getValue();
     if (argAutoExposure.isSet()) opts.autoExposure = true;
     if (argDepthOffset.isSet()) opts.depthTimeOffsetMs = argDepthOffset.getValue();
+    opts.statedFocalErrorPercent = argFocalError.getValue();
     opts.validate();  // a clear error before any rendering or file output
     if (argKinectTwin.isSet() && opts.kinectDepth)
       throw std::invalid_argument(
@@ -150,6 +156,9 @@ int main(int argc, char** argv) {
           "%s, depth %+.1f ms after colour\n",
           opts.exposureMs, opts.rollingShutterMs, opts.autoExposure ? "on" : "off",
           opts.depthTimeOffsetMs);
+    if (opts.statedFocalErrorPercent != 0)
+      std::printf("  stated focal:     %.2f px (rendered with %.2f px)\n",
+                  opts.statedIntrinsics().fx, opts.fx);
     if (opts.depthNoiseSigma > 0)
       std::printf("  depth noise:      sigma %.4f m\n", opts.depthNoiseSigma);
     std::printf("  rawlog:           %s\n", sum.rawlogPath.c_str());

@@ -351,3 +351,27 @@ TEST(HandHeldEffects, PresetAndBadOptions) {
     EXPECT_THROW(x.validate(), std::invalid_argument);
   }
 }
+
+// A camera known by its nominal intrinsics: the observations state a focal length 2 % longer
+// than the one the images were rendered with; the images themselves are the exact camera's.
+TEST(CameraEffects, StatedFocalLengthIsOffByItsPercentage) {
+  SyntheticOptions exact;
+  exact.supersampling = 1;
+  SyntheticOptions nominal = exact;
+  nominal.statedFocalErrorPercent = 2;
+  SyntheticSequence a(exact), b(nominal);
+  const auto obsA = a.renderFrame(7), obsB = b.renderFrame(7);
+  EXPECT_NEAR(obsB->cameraParamsIntensity.fx(), 1.02 * obsA->cameraParamsIntensity.fx(), 1e-9);
+  EXPECT_NEAR(obsB->cameraParamsIntensity.fy(), 1.02 * obsA->cameraParamsIntensity.fy(), 1e-9);
+  EXPECT_DOUBLE_EQ(obsB->cameraParamsIntensity.cx(), obsA->cameraParamsIntensity.cx());
+  EXPECT_DOUBLE_EQ(obsB->cameraParams.fx(), obsB->cameraParamsIntensity.fx());
+  const cv::Mat colourA = obsA->intensityImage.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY),
+                colourB = obsB->intensityImage.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
+  EXPECT_EQ(cv::norm(colourA, colourB, cv::NORM_INF), 0) << "the images changed";
+  EXPECT_TRUE(obsA->rangeImage == obsB->rangeImage) << "the depth changed";
+  for (double bad : {25.0, -21.0, double(NAN)}) {
+    SyntheticOptions x;
+    x.statedFocalErrorPercent = bad;
+    EXPECT_THROW(x.validate(), std::invalid_argument) << bad;
+  }
+}

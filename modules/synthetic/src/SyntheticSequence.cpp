@@ -74,6 +74,13 @@ CameraIntrinsics SyntheticOptions::intrinsics() const {
   return K;
 }
 
+CameraIntrinsics SyntheticOptions::statedIntrinsics() const {
+  CameraIntrinsics K = intrinsics();
+  K.fx *= 1 + statedFocalErrorPercent / 100;
+  K.fy *= 1 + statedFocalErrorPercent / 100;
+  return K;
+}
+
 void SyntheticOptions::validate() const {
   if (!SyntheticTrajectory::isKnown(trajectory)) {
     std::string known;
@@ -103,6 +110,9 @@ void SyntheticOptions::validate() const {
   inRange(exposureMs, 0, 100, "exposure time");
   inRange(rollingShutterMs, 0, 100, "rolling-shutter readout time");
   inRange(depthTimeOffsetMs, -100, 100, "depth time offset");
+  if (!(std::abs(statedFocalErrorPercent) <= 20))
+    throw std::invalid_argument("stated focal length error must be in [-20, 20] %, not " +
+                                std::to_string(statedFocalErrorPercent));
   if (motionSamples < 0 || motionSamples > 200)
     throw std::invalid_argument("motion samples must be in [0, 200], not " +
                                 std::to_string(motionSamples));
@@ -282,7 +292,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::observation(size_t i,
   }
   obs->rangeUnits = static_cast<float>(1.0 / kDepthFactor);
   obs->maxRange = static_cast<float>(65535.0 / kDepthFactor);
-  obs->cameraParamsIntensity = options_.intrinsics().toTCamera();
+  obs->cameraParamsIntensity = options_.statedIntrinsics().toTCamera();
   obs->cameraParams = obs->cameraParamsIntensity;  // depth is registered to colour
   obs->relativePoseIntensityWRTDepth =
       mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));

@@ -31,6 +31,9 @@ struct SyntheticOptions {
   unsigned seed = 1;  ///< selects the textures (and the depth noise)
   int width = 640, height = 480;
   double fx = 525, fy = 525, cx = 319.5, cy = 239.5;
+  /// The observations state focal lengths this many percent larger than the ones rendered with:
+  /// a camera known by its model's nominal intrinsics, not its own calibration (0 = exact).
+  double statedFocalErrorPercent = 0;
   double depthNoiseSigma = 0;  ///< metres; Gaussian noise added to valid depth (0 = exact)
   /// Simulate a Kinect v1's depth (structured-light disparity: lateral jitter, disparity noise,
   /// 1/8-pixel quantisation) instead of exact depth; see kinectDepth().
@@ -48,7 +51,8 @@ struct SyntheticOptions {
   int supersampling = 3;        ///< colour anti-aliasing factor (odd), see SyntheticRenderer
   bool ceiling = true;
 
-  CameraIntrinsics intrinsics() const;
+  CameraIntrinsics intrinsics() const;        ///< the rendering's (the true camera)
+  CameraIntrinsics statedIntrinsics() const;  ///< what the observations say (see above)
   bool motionEffects() const { return exposureMs > 0 || rollingShutterMs > 0; }
   /// The hand-held preset: 10 ms exposure, 20 ms rolling shutter, auto exposure and depth 5 ms
   /// after colour (a Kinect v1 / Xtion-like camera, whose streams are not synchronised).
