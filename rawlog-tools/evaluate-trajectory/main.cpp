@@ -26,7 +26,11 @@ const char* kDescription =
     "rmse/mean/median/std/min/max of the remaining position errors, in metres.\n"
     "  RPE: relative pose error as evaluate_rpe.py --fixed_delta --delta_unit s computes it, over "
     "all pose pairs --rpe-delta seconds apart: translational error (m) and rotational error (deg) "
-    "of the relative motion over that interval -- m/s and deg/s for the default 1 s.\n"
+    "of the relative motion over that interval -- m/s and deg/s for the default 1 s. With it, "
+    "the rotation scale per camera axis (x right, y down, z forward) over the same pairs: how "
+    "much the estimate turns for each turn of the ground truth (least squares; turns about x and "
+    "y, tilt and pan, are read through the focal length, turns about z, roll, are not); null for "
+    "an axis the ground truth hardly turns about.\n"
     "Also reported: how many pairs associated and how many estimated poses have no ground-truth "
     "partner. With --json a single JSON object goes to stdout instead. Exit status 0 on success, 1 "
     "on any error (unreadable or malformed file, no associated pairs, fewer than 3 pairs).";
@@ -99,6 +103,8 @@ void printJson(const std::string& gtPath, const std::string& estPath, const Eval
             << "  \"rpe_rot_mean_deg_per_s\": " << rpe(r.rotationDegrees.mean) << ",\n"
             << "  \"rpe_rot_median_deg_per_s\": " << rpe(r.rotationDegrees.median) << ",\n"
             << "  \"rpe_rot_max_deg_per_s\": " << rpe(r.rotationDegrees.max) << ",\n"
+            << "  \"rotation_scale_xyz\": [" << rpe(r.rotationScale.x()) << ", "
+            << rpe(r.rotationScale.y()) << ", " << rpe(r.rotationScale.z()) << "],\n"
             << "  \"rpe_error\": " << (r.valid ? std::string("null") : jsonString(r.reason))
             << "\n}\n";
 }
@@ -134,6 +140,10 @@ void printHuman(const std::string& gtPath, const std::string& estPath, const Eva
       "  rotational    rmse %.6f deg%s, mean %.6f deg%s, median %.6f deg%s, max %.6f deg%s\n",
       r.rotationDegrees.rmse, per.c_str(), r.rotationDegrees.mean, per.c_str(),
       r.rotationDegrees.median, per.c_str(), r.rotationDegrees.max, per.c_str());
+  auto scale = [](double v) { return std::isfinite(v) ? jsonNumber(v) : std::string("n/a"); };
+  std::printf("  rotation scale (estimate / ground truth) about x %s, y %s, z %s\n",
+              scale(r.rotationScale.x()).c_str(), scale(r.rotationScale.y()).c_str(),
+              scale(r.rotationScale.z()).c_str());
 }
 
 /// readTumTrajectory's messages already name FILE:LINE; we add which input it was, and check

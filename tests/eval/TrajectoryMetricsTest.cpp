@@ -61,6 +61,10 @@ void expectSelfConsistent(const Trajectory& gt) {
   EXPECT_LT(ev.rpe.translation.max, 1e-9);
   // acos((trace - 1) / 2) near 1 resolves angles only to ~1e-8 rad.
   EXPECT_LT(ev.rpe.rotationDegrees.max, 1e-5);
+  // A trajectory turns exactly as much as itself about every axis it turns about.
+  for (int axis = 0; axis < 3; ++axis)
+    if (std::isfinite(ev.rpe.rotationScale[axis]))
+      EXPECT_NEAR(ev.rpe.rotationScale[axis], 1.0, 1e-9) << "axis " << axis;
 }
 
 }  // namespace
@@ -226,6 +230,31 @@ TEST(TrajectoryMetrics, HandComputedRpeRotationDrift) {
   EXPECT_NEAR(r.translation.max, e2, 1e-12);
   EXPECT_NEAR(r.rotationDegrees.rmse, 2.0, 1e-6);
   EXPECT_NEAR(r.rotationDegrees.median, 2.0, 1e-6);
+}
+
+// A camera that turns by 0.9 of the ground truth's angle about one axis: the rotation scale
+// is 0.9 about that axis, whatever the world frame, and undetermined (NaN) about the others.
+TEST(TrajectoryMetrics, RotationScaleIsPerCameraAxis) {
+  for (int axis = 0; axis < 3; ++axis) {
+    Trajectory gt, est;
+    for (int k = 0; k < 300; ++k) {
+      const double t = k / 30.0;
+      const double angle = 0.4 * std::sin(0.7 * t);
+      const Eigen::Vector3d pos(0.3 * t, 0.1 * std::sin(t), 0.0);
+      const Eigen::Vector3d unit = Eigen::Vector3d::Unit(axis);
+      gt.push_back({t, makePose(pos, Eigen::AngleAxisd(angle, unit).toRotationMatrix())});
+      est.push_back({t, makePose(pos, Eigen::AngleAxisd(0.9 * angle, unit).toRotationMatrix())});
+    }
+    const RpeResult r =
+        TrajectoryMetrics::computeRpe(gt, transformed(est, someRigidTransform()), 1.0);
+    ASSERT_TRUE(r.valid) << r.reason;
+    for (int other = 0; other < 3; ++other) {
+      if (other == axis)
+        EXPECT_NEAR(r.rotationScale[other], 0.9, 1e-9) << "axis " << axis;
+      else
+        EXPECT_TRUE(std::isnan(r.rotationScale[other])) << "axis " << axis << ", " << other;
+    }
+  }
 }
 
 TEST(TrajectoryMetrics, RpeShorterThanDeltaReportsNotEnoughSpan) {
