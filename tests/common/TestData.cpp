@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -79,6 +80,18 @@ double jsonValue(const std::string& json, const std::string& key) {
   const std::regex re("\"" + key + "\": *([-0-9.eE+]+)");
   std::smatch m;
   return std::regex_search(json, m, re) ? std::stod(m[1]) : std::nan("");
+}
+
+std::vector<double> jsonArray(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\": *\\[([^\\]]*)\\]");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) return {};
+  std::vector<double> out;
+  std::stringstream items(m[1].str());
+  std::string item;
+  while (std::getline(items, item, ','))
+    out.push_back(item.find("null") != std::string::npos ? std::nan("") : std::stod(item));
+  return out;
 }
 
 }  // namespace slamdunk::test

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 namespace slamdunk::test {
 
@@ -36,6 +37,9 @@ std::string preparedRawlog(const std::string& name);
 std::string groundTruthOf(const std::string& rawlog);
 /// A number from a tool's --json output; NaN when the key is absent.
 double jsonValue(const std::string& json, const std::string& key);
+/// The numbers of a one-line JSON array of numbers (null read as NaN); empty when the key is
+/// absent.
+std::vector<double> jsonArray(const std::string& json, const std::string& key);
 
 }  // namespace slamdunk::test
 

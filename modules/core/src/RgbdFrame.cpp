@@ -121,25 +121,33 @@ RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& o
                    colour.channels() == 3 ? colour : cv::Mat());
 }
 
-float RgbdFrame::depthAt(double u, double v) const {
+namespace {
+float nearestDepth(const cv::Mat& depth, double u, double v) {
   const int c = static_cast<int>(std::lround(u)), r = static_cast<int>(std::lround(v));
-  if (c < 0 || r < 0 || c >= depth_.cols || r >= depth_.rows) return 0.f;
-  const float z = depth_.at<float>(r, c);
+  if (c < 0 || r < 0 || c >= depth.cols || r >= depth.rows) return 0.f;
+  const float z = depth.at<float>(r, c);
   return std::isfinite(z) && z > 0 ? z : 0.f;
 }
+}  // namespace
 
-float RgbdFrame::interpolatedDepthAt(double u, double v) const {
+float interpolatedDepth(const cv::Mat& depth, double u, double v) {
   const double fu = std::floor(u), fv = std::floor(v);
   const int c = static_cast<int>(fu), r = static_cast<int>(fv);
-  if (!(std::abs(u) < 1e8 && std::abs(v) < 1e8) || c < 0 || r < 0 || c + 1 >= depth_.cols ||
-      r + 1 >= depth_.rows)
-    return depthAt(u, v);
-  const float z00 = depth_.at<float>(r, c), z01 = depth_.at<float>(r, c + 1);
-  const float z10 = depth_.at<float>(r + 1, c), z11 = depth_.at<float>(r + 1, c + 1);
+  if (!(std::abs(u) < 1e8 && std::abs(v) < 1e8) || c < 0 || r < 0 || c + 1 >= depth.cols ||
+      r + 1 >= depth.rows)
+    return nearestDepth(depth, u, v);
+  const float z00 = depth.at<float>(r, c), z01 = depth.at<float>(r, c + 1);
+  const float z10 = depth.at<float>(r + 1, c), z11 = depth.at<float>(r + 1, c + 1);
   const float lo = std::min({z00, z01, z10, z11}), hi = std::max({z00, z01, z10, z11});
-  if (!(lo > 0) || !std::isfinite(hi) || hi - lo > 0.02f * lo) return depthAt(u, v);
+  if (!(lo > 0) || !std::isfinite(hi) || hi - lo > 0.02f * lo) return nearestDepth(depth, u, v);
   const double a = u - fu, b = v - fv;
   return static_cast<float>((1 - b) * ((1 - a) * z00 + a * z01) + b * ((1 - a) * z10 + a * z11));
+}
+
+float RgbdFrame::depthAt(double u, double v) const { return nearestDepth(depth_, u, v); }
+
+float RgbdFrame::interpolatedDepthAt(double u, double v) const {
+  return interpolatedDepth(depth_, u, v);
 }
 
 std::optional<Eigen::Vector3d> RgbdFrame::backProject(double u, double v) const {

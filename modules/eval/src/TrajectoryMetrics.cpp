@@ -1,6 +1,7 @@
 #include <slamdunk/eval/TrajectoryMetrics.h>
 
 #include <slamdunk/core/Pose.h>
+#include <slamdunk/eval/RotationScale.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,12 +19,6 @@ std::string format(const char* fmt, Args... args) {
   char buf[512];
   std::snprintf(buf, sizeof(buf), fmt, args...);
   return buf;
-}
-
-/// Rotation vector (axis times angle, radians) of a rotation matrix.
-Eigen::Vector3d rotationVector(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd turn(R);
-  return turn.angle() * turn.axis();
 }
 
 double medianOf(std::vector<double> values) {
@@ -160,8 +155,7 @@ RpeResult TrajectoryMetrics::computeRpe(const Trajectory& gtIn, const Trajectory
   const double gtMaxTimeDifference = 2 * medianOf(gtIntervals);
 
   std::vector<double> transErrors, rotErrors;
-  // Sums for the per-axis rotation scale: sum(gt_k * est_k) and sum(gt_k^2).
-  Eigen::Vector3d gtTimesEst = Eigen::Vector3d::Zero(), gtSquared = Eigen::Vector3d::Zero();
+  RotationScale rotationScale;
   for (std::size_t i = 0; i < estStamps.size(); ++i) {
     const std::size_t j = findClosestIndex(estStamps, estStamps[i] + delta);
     if (j == estStamps.size() - 1) continue;
@@ -178,9 +172,7 @@ RpeResult TrajectoryMetrics::computeRpe(const Trajectory& gtIn, const Trajectory
     const Pose error = relativeEst.inverse() * relativeGt;
     transErrors.push_back(error.translation().norm());
     rotErrors.push_back(rotationAngle(error) * kRadToDeg);
-    const Eigen::Vector3d gtTurn = rotationVector(relativeGt.linear());
-    gtTimesEst += gtTurn.cwiseProduct(rotationVector(relativeEst.linear()));
-    gtSquared += gtTurn.cwiseAbs2();
+    rotationScale.add(relativeGt.linear(), relativeEst.linear());
   }
 
   result.pairs = transErrors.size();
@@ -199,11 +191,7 @@ RpeResult TrajectoryMetrics::computeRpe(const Trajectory& gtIn, const Trajectory
     return result;
   }
   result.valid = true;
-  const double minSquared = std::pow(RpeResult::kMinRotationForScaleDegrees / kRadToDeg, 2) *
-                            static_cast<double>(transErrors.size());
-  for (int axis = 0; axis < 3; ++axis)
-    if (gtSquared[axis] >= minSquared)
-      result.rotationScale[axis] = gtTimesEst[axis] / gtSquared[axis];
+  result.rotationScale = rotationScale.scale();
   result.translation = ErrorStatistics::compute(std::move(transErrors));
   result.rotationDegrees = ErrorStatistics::compute(std::move(rotErrors));
   return result;

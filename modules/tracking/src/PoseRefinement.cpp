@@ -1,4 +1,5 @@
 #include <slamdunk/core/DepthNoiseModel.h>
+#include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 
 #include <Eigen/Cholesky>
@@ -69,6 +70,26 @@ CameraIntrinsics scaleIntrinsics(const CameraIntrinsics& K, int stride) {
   k.height = (K.height + stride - 1) / stride;
   k.dist = {0, 0, 0, 0, 0};
   return k;
+}
+
+std::vector<Eigen::Vector3d> depthSamples(const RgbdFrame& frame, int stride, double maxDepth) {
+  std::vector<Eigen::Vector3d> out;
+  const cv::Mat& depth = frame.depth();
+  for (int v = stride / 2; v < depth.rows; v += stride)
+    for (int u = stride / 2; u < depth.cols; u += stride)
+      if (const auto p = frame.backProject(u, v); p && p->z() < maxDepth) out.push_back(*p);
+  return out;
+}
+
+cv::Mat undistortedDepth(const cv::Mat& depth, const CameraIntrinsics& K, int stride) {
+  if (!K.hasDistortion()) return depth;
+  cv::Mat out(depth.size(), CV_32F, cv::Scalar(0));
+  for (int r = 0; r < out.rows; ++r)
+    for (int c = 0; c < out.cols; ++c) {
+      const Eigen::Vector2d d = K.distortPixel(c * stride, r * stride);
+      out.at<float>(r, c) = interpolatedDepth(depth, d.x() / stride, d.y() / stride);
+    }
+  return out;
 }
 
 namespace {

@@ -605,17 +605,14 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
   if (!kf || kf->depthSmall.empty()) return std::nullopt;
   DepthAlignmentTerm term;
   kf->depthSmall.convertTo(term.referenceDepth, CV_32F);
+  term.referenceDepth = undistortedDepth(term.referenceDepth, kf->intrinsics, kf->depthSmallStride);
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
   term.worldFromReference = graph_->pose(reference);
   term.weight = options_.depthAlignmentWeight;
   term.maxDistance = options_.depthAlignmentMaxDistance;
   term.centralNormals = options_.depthAlignmentCentralNormals;
-  const int stride = options_.depthAlignmentStride;
-  const cv::Mat& depth = frame.depth();
-  for (int v = stride / 2; v < depth.rows; v += stride)
-    for (int u = stride / 2; u < depth.cols; u += stride)
-      if (const auto p = frame.backProject(u, v); p && p->z() < options_.depthAlignmentMaxDepth)
-        term.framePoints.push_back(*p);
+  term.framePoints =
+      depthSamples(frame, options_.depthAlignmentStride, options_.depthAlignmentMaxDepth);
   return term;
 }
 

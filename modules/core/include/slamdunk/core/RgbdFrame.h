@@ -13,6 +13,11 @@ class CObservation3DRangeScan;
 
 namespace slamdunk {
 
+/// Depth (CV_32F metres, 0 = none) at a sub-pixel position of `depth`: interpolated between
+/// the four pixels around it when they all lie on one smooth surface (within 2 % of each
+/// other), else the nearest pixel's; 0 outside the image.
+float interpolatedDepth(const cv::Mat& depth, double u, double v);
+
 class RgbdFrame {
  public:
   /// Builds a frame from an MRPT observation (loads externally stored images if needed).

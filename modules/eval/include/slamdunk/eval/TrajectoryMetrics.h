@@ -4,6 +4,7 @@
 
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/RigidAlignment.h>
+#include <slamdunk/eval/RotationScale.h>
 #include <slamdunk/eval/TrajectoryAssociation.h>
 
 #include <Eigen/Core>
@@ -40,16 +41,12 @@ struct RpeResult {
   std::size_t pairs = 0;            ///< compared pose pairs
   ErrorStatistics translation;      ///< metres per delta
   ErrorStatistics rotationDegrees;  ///< degrees per delta
-  /// Per camera axis (x right, y down, z forward): the least-squares factor s with
-  /// est ≈ s · gt between the two trajectories' rotation vectors over the same pairs. Turns
-  /// about x and y (tilt, pan) are read through the focal length in pixels, turns about z (roll)
-  /// are not, and the estimate's random error does not bias s: a factor that differs between the
-  /// axes points at the camera's intrinsics, or at the ground truth, rather than at noise. NaN
-  /// for an axis the ground truth turns about by less than kMinRotationForScaleDegrees (rms over
-  /// the pairs).
+  /// Per camera axis (x right, y down, z forward): how much the estimate turns for each turn of
+  /// the ground truth over the same pairs (RotationScale, the ground truth as the reference).
+  /// NaN for an axis the ground truth turns about by less than kMinRotationForScaleDegrees.
   Eigen::Vector3d rotationScale =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  static constexpr double kMinRotationForScaleDegrees = 1.0;
+  static constexpr double kMinRotationForScaleDegrees = RotationScale::kMinRotationDegrees;
 };
 
 struct EvaluationOptions {
