@@ -16,10 +16,10 @@ Eigen::Vector3d rotationVector(const Eigen::Matrix3d& R) {
 }  // namespace
 
 void RotationScale::add(const Eigen::Matrix3d& reference, const Eigen::Matrix3d& compared) {
-  const Eigen::Vector3d turn = rotationVector(reference);
-  referenceTimesCompared_ += turn.cwiseProduct(rotationVector(compared));
-  referenceSquared_ += turn.cwiseAbs2();
-  comparedSquared_ += rotationVector(compared).cwiseAbs2();
+  const Eigen::Vector3d r = rotationVector(reference), c = rotationVector(compared);
+  referenceTimesCompared_ += r.cwiseProduct(c);
+  referenceSquared_ += r.cwiseAbs2();
+  comparedSquared_ += c.cwiseAbs2();
   ++count_;
 }
 
