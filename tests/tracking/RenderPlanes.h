@@ -22,6 +22,21 @@ inline std::vector<Plane> cornerPlanes() {
   return {{{0, -1, 0}, 0.8}, {{-1, 0, 0}, 0.9}, {{0, 0, -1}, 2.5}};
 }
 
+/// Distance along the ray `dirCam` (camera frame, z = 1, so the distance is the depth) to the
+/// nearest plane, for a camera at `pose` (world <- camera); 0 where no plane is hit.
+inline double depthAlongRay(const Pose& pose, const Eigen::Vector3d& dirCam,
+                            const std::vector<Plane>& planes) {
+  const Eigen::Vector3d o = pose.translation(), d = pose.linear() * dirCam;
+  double best = 0;
+  for (const Plane& p : planes) {
+    const double denom = p.normal.dot(d);
+    if (std::abs(denom) < 1e-9) continue;
+    const double t = -(p.normal.dot(o) + p.offset) / denom;
+    if (t > 0 && (best == 0 || t < best)) best = t;
+  }
+  return best;
+}
+
 /// Depth (CV_32F metres) of the nearest plane along each pixel's ray, for a camera at `pose`
 /// (world <- camera); 0 where no plane is hit.
 inline cv::Mat renderPlanes(const CameraIntrinsics& K, const Pose& pose,
@@ -30,15 +45,7 @@ inline cv::Mat renderPlanes(const CameraIntrinsics& K, const Pose& pose,
   for (int v = 0; v < K.height; ++v)
     for (int u = 0; u < K.width; ++u) {
       const Eigen::Vector3d dirCam((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-      const Eigen::Vector3d o = pose.translation(), d = pose.linear() * dirCam;
-      double best = 1e9;
-      for (const Plane& p : planes) {
-        const double denom = p.normal.dot(d);
-        if (std::abs(denom) < 1e-9) continue;
-        const double t = -(p.normal.dot(o) + p.offset) / denom;
-        if (t > 0 && t < best) best = t;
-      }
-      if (best < 1e8) depth.at<float>(v, u) = static_cast<float>(best);  // t is z (dirCam.z = 1)
+      depth.at<float>(v, u) = static_cast<float>(depthAlongRay(pose, dirCam, planes));
     }
   return depth;
 }

@@ -32,26 +32,15 @@ CameraIntrinsics distortedCamera() {
 /// The corner seen from `pose` through K's lens: each pixel's depth along its undistorted ray.
 RgbdFrame frameAt(const Pose& pose) {
   const CameraIntrinsics K = distortedCamera();
-  CameraIntrinsics pinhole = K;
-  pinhole.dist = {0, 0, 0, 0, 0};
-  const cv::Mat straight = test::renderPlanes(pinhole, pose, test::cornerPlanes());
   cv::Mat depth(K.height, K.width, CV_32F, cv::Scalar(0));
   for (int v = 0; v < K.height; ++v)
     for (int u = 0; u < K.width; ++u) {
-      // Rendered on the pinhole grid, then looked up at the pixel's undistorted position.
+      // The exact depth along this pixel's own ray, where the lens bends it from inside the view.
       const Eigen::Vector2d p = K.undistortPixel(u, v);
-      const int c = static_cast<int>(std::lround(p.x())), r = static_cast<int>(std::lround(p.y()));
-      if (c >= 0 && r >= 0 && c < K.width && r < K.height) {
-        // The exact depth along this pixel's own ray, not the neighbouring grid pixel's.
-        const Eigen::Vector3d dir((p.x() - K.cx) / K.fx, (p.y() - K.cy) / K.fy, 1.0);
-        const Eigen::Vector3d o = pose.translation(), d = pose.linear() * dir;
-        double best = 0;
-        for (const test::Plane& pl : test::cornerPlanes()) {
-          const double t = -(pl.normal.dot(o) + pl.offset) / pl.normal.dot(d);
-          if (t > 0 && (best == 0 || t < best)) best = t;
-        }
-        if (straight.at<float>(r, c) > 0) depth.at<float>(v, u) = static_cast<float>(best);
-      }
+      if (p.x() < 0 || p.y() < 0 || p.x() > K.width - 1 || p.y() > K.height - 1) continue;
+      const Eigen::Vector3d ray((p.x() - K.cx) / K.fx, (p.y() - K.cy) / K.fy, 1.0);
+      depth.at<float>(v, u) =
+          static_cast<float>(test::depthAlongRay(pose, ray, test::cornerPlanes()));
     }
   return RgbdFrame(0, cv::Mat(K.height, K.width, CV_8U, cv::Scalar(128)), depth, K);
 }

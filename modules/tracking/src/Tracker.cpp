@@ -603,9 +603,15 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
                                                             KeyframeId reference) const {
   const KeyframePtr kf = graph_->keyframe(reference);
   if (!kf || kf->depthSmall.empty()) return std::nullopt;
+  // Resampled once per keyframe: frame after frame meets the same reference.
+  if (referenceDepthKeyframe_ != reference || referenceDepth_.empty()) {
+    cv::Mat depth;
+    kf->depthSmall.convertTo(depth, CV_32F);
+    referenceDepth_ = undistortedDepth(depth, kf->intrinsics, kf->depthSmallStride);
+    referenceDepthKeyframe_ = reference;
+  }
   DepthAlignmentTerm term;
-  kf->depthSmall.convertTo(term.referenceDepth, CV_32F);
-  term.referenceDepth = undistortedDepth(term.referenceDepth, kf->intrinsics, kf->depthSmallStride);
+  term.referenceDepth = referenceDepth_;
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
   term.worldFromReference = graph_->pose(reference);
   term.weight = options_.depthAlignmentWeight;

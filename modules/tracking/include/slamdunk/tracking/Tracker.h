@@ -210,6 +210,10 @@ class Tracker {
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
   cv::Mat fittedNormals_;         ///< of fittedNormalsKeyframe_'s depth, for depth alone
   KeyframeId fittedNormalsKeyframe_ = 0;
+  /// referenceDepthKeyframe_'s depth as float, lens distortion taken out, for the dense term
+  /// (a cache: depthTermAgainst stays const).
+  mutable cv::Mat referenceDepth_;
+  mutable KeyframeId referenceDepthKeyframe_ = 0;
   bool lost_ = false;
   bool poolDirty_ = false;
   /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
