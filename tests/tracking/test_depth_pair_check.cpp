@@ -32,6 +32,7 @@ CameraIntrinsics distortedCamera() {
 /// The corner seen from `pose` through K's lens: each pixel's depth along its undistorted ray.
 RgbdFrame frameAt(const Pose& pose) {
   const CameraIntrinsics K = distortedCamera();
+  const auto planes = test::cornerPlanes();
   cv::Mat depth(K.height, K.width, CV_32F, cv::Scalar(0));
   for (int v = 0; v < K.height; ++v)
     for (int u = 0; u < K.width; ++u) {
@@ -39,8 +40,7 @@ RgbdFrame frameAt(const Pose& pose) {
       const Eigen::Vector2d p = K.undistortPixel(u, v);
       if (p.x() < 0 || p.y() < 0 || p.x() > K.width - 1 || p.y() > K.height - 1) continue;
       const Eigen::Vector3d ray((p.x() - K.cx) / K.fx, (p.y() - K.cy) / K.fy, 1.0);
-      depth.at<float>(v, u) =
-          static_cast<float>(test::depthAlongRay(pose, ray, test::cornerPlanes()));
+      depth.at<float>(v, u) = static_cast<float>(test::depthAlongRay(pose, ray, planes));
     }
   return RgbdFrame(0, cv::Mat(K.height, K.width, CV_8U, cv::Scalar(128)), depth, K);
 }

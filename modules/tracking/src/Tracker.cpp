@@ -283,13 +283,12 @@ bool Tracker::registerByDepthOnly(const RgbdFrame& frame, TrackingResult& r, Pos
   };
   if (!term) return fail("depth-only: the reference keyframe has no depth");
   term->weight = 1.0;  // alone: its scale does not matter, but 0 (dense term off) would
-  // Fitted once per reference keyframe: a dark stretch aligns many frames with the same one.
-  if (fittedNormalsKeyframe_ != lastReference_ || fittedNormals_.empty()) {
-    fittedNormals_ = fitPlaneNormals(term->referenceDepth, term->referenceIntrinsics,
-                                     options_.depthOnly.normalRadius);
-    fittedNormalsKeyframe_ = lastReference_;
-  }
-  term->referenceNormals = fittedNormals_;
+  // Fitted once per reference keyframe (depthTermAgainst has just made the cache hold
+  // lastReference_'s depth): a dark stretch aligns many frames with the same one.
+  if (referenceDepth_.normals.empty())
+    referenceDepth_.normals = fitPlaneNormals(term->referenceDepth, term->referenceIntrinsics,
+                                              options_.depthOnly.normalRadius);
+  term->referenceNormals = referenceDepth_.normals;
   // Two predictions, constant velocity (a camera circling an object) and standing still; the
   // accepted alignment that explains more of the frame wins.
   std::vector<Pose> predictions{lastPose_};
@@ -604,14 +603,14 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
   const KeyframePtr kf = graph_->keyframe(reference);
   if (!kf || kf->depthSmall.empty()) return std::nullopt;
   // Resampled once per keyframe: frame after frame meets the same reference.
-  if (referenceDepthKeyframe_ != reference || referenceDepth_.empty()) {
+  if (referenceDepth_.keyframe != reference || referenceDepth_.depth.empty()) {
     cv::Mat depth;
     kf->depthSmall.convertTo(depth, CV_32F);
-    referenceDepth_ = undistortedDepth(depth, kf->intrinsics, kf->depthSmallStride);
-    referenceDepthKeyframe_ = reference;
+    referenceDepth_ = {reference, undistortedDepth(depth, kf->intrinsics, kf->depthSmallStride),
+                       cv::Mat()};
   }
   DepthAlignmentTerm term;
-  term.referenceDepth = referenceDepth_;
+  term.referenceDepth = referenceDepth_.depth;
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
   term.worldFromReference = graph_->pose(reference);
   term.weight = options_.depthAlignmentWeight;

@@ -208,12 +208,14 @@ class Tracker {
   FeaturePool firstPairPool_;
   RollingShutterEstimator rollingShutter_;
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
-  cv::Mat fittedNormals_;         ///< of fittedNormalsKeyframe_'s depth, for depth alone
-  KeyframeId fittedNormalsKeyframe_ = 0;
-  /// referenceDepthKeyframe_'s depth as float, lens distortion taken out, for the dense term
-  /// (a cache: depthTermAgainst stays const).
-  mutable cv::Mat referenceDepth_;
-  mutable KeyframeId referenceDepthKeyframe_ = 0;
+  /// One keyframe's depth prepared for alignment, once per keyframe: frame after frame meets
+  /// the same reference (a cache: depthTermAgainst stays const).
+  struct ReferenceDepth {
+    KeyframeId keyframe = 0;
+    cv::Mat depth;    ///< as float, lens distortion taken out (the dense term, depth alone)
+    cv::Mat normals;  ///< fitted to depth on first use (depth alone)
+  };
+  mutable ReferenceDepth referenceDepth_;
   bool lost_ = false;
   bool poolDirty_ = false;
   /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
