@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libgtest-dev googletest
   libmrpt-dev mrpt-apps libnanoflann-dev
+  libwxgtk3.2-dev  # the viewer names MRPT's window thread (WxSubsystem.h includes wxWidgets)
   libeigen3-dev
   libopencv-dev
   libceres-dev libsuitesparse-dev

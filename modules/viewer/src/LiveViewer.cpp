@@ -1,5 +1,7 @@
 #include <slamdunk/viewer/LiveViewer.h>
 
+#include "MrptWindowThread.h"
+
 #include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/gui/keycodes.h>
 #include <mrpt/system/CObserver.h>
@@ -217,6 +219,9 @@ void LiveViewer::openWindow() {
       pthread_setschedparam(pthread_self(), SCHED_IDLE, &none);  // allowed to any user
     }
     try {
+      // Started here, not by the window, so that MRPT's 5 s deadline for it does not decide.
+      if (!window_thread::start(kWindowThreadAnswerSeconds))
+        throw std::runtime_error("MRPT's window thread did not start");
       window_ = std::make_unique<mrpt::gui::CDisplayWindow3D>(options_.title, options_.width,
                                                               options_.height);
     } catch (const std::exception& e) {
@@ -224,8 +229,18 @@ void LiveViewer::openWindow() {
     }
   }).join();
   if (!error.empty()) throw std::runtime_error(error);
+  // MRPT stops waiting for the window after 6 s; its request stays queued, and a window thread
+  // at the idle priority on a busy machine may take longer.
+  const auto isOpen = [&] { return window_->isOpen(); };
+  if (!window_thread::waitUntil(kWindowThreadAnswerSeconds, isOpen))
+    throw std::runtime_error("MRPT's window thread did not open the window");
   keys_ = std::make_unique<KeyQueue>();
-  keys_->observeBegin(*window_);
+  // The window publishes its events on its thread, to a list of observers that has no lock:
+  // joined on that thread.
+  if (!window_thread::run(
+          [keys = keys_.get(), window = window_.get()] { keys->observeBegin(*window); },
+          kWindowThreadAnswerSeconds))
+    throw std::runtime_error("MRPT's window thread did not answer");
   LiveMapSceneOptions sceneOptions = options_.scene;
   sceneOptions.windowAspect = double(options_.width) / options_.height;
   scene_ = std::make_unique<LiveMapScene>(sceneOptions);
@@ -245,6 +260,7 @@ void LiveViewer::run() {
   try {
     openWindow();
   } catch (const std::exception& e) {
+    closeWindow();  // what was made so far
     std::lock_guard lock(mutex_);
     startError_ = e.what();
     changed_.notify_all();
@@ -353,24 +369,16 @@ void LiveViewer::update() {
 }
 
 void LiveViewer::closeWindow() {
-  bool windowThreadStuck = false;
   if (window_ && window_->isOpen()) {
-    // MRPT 2.5 releases the window object as soon as its frame starts closing, while a request
-    // or a repaint still queued for the window thread then uses the released object (a crash
-    // seen under load). So the window goes only once nothing is queued any more:
+    // Before the close, every request queued so far is let through:
     //  1. the map is hidden, so that the last repaint is cheap even at the idle priority;
     //  2. one last repaint is requested, then a marker function through the same queue: when
     //     it runs, every request before it (our updates' and this repaint's) has been handled;
     //  3. the next picture the window captures after that is the last repaint on the screen.
     // The window thread draws at the idle priority, so while other work fills every core it
-    // may not run for many seconds: the wait for the marker has no deadline that load can
-    // reach. With a 10 s one, a window thread kept busy longer got its window freed under it
-    // (LiveViewer.ClosingWaitsForTheWindowThreadHoweverLongItIsBusy), and freeing it with
-    // requests queued corrupts the heap (reproduced under busy loops; most likely the "double
-    // free or corruption" after the last frame of a CI run with two tests on two cores). A
-    // window thread that never answers is stuck, not slow: its window is then left to the
-    // process's end instead of being freed under it.
-    {
+    // may not run for many seconds: no deadline that load can reach decides here
+    // (LiveViewer.ClosingWaitsForTheWindowThreadHoweverLongItIsBusy).
+    if (scene_) {
       mrpt::opengl::COpenGLScene::Ptr scene;
       mrpt::gui::CDisplayWindow3DLocker locked(*window_, scene);
       scene_->hideMap();
@@ -379,32 +387,31 @@ void LiveViewer::closeWindow() {
     window_->forceRepaint();
     auto requestsDone = std::make_shared<std::atomic<bool>>(false);
     window_->sendFunctionToRunOnGUIThread([requestsDone] { *requestsDone = true; });
-    const auto waitFor = [](double seconds, const std::function<bool()>& done) {
-      const auto end = Clock::now() + std::chrono::duration<double>(seconds);
-      while (!done() && Clock::now() < end)
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    };
-    waitFor(kWindowThreadAnswerSeconds, [&] { return requestsDone->load(); });
-    windowThreadStuck = !*requestsDone;
-    if (windowThreadStuck) {
-      std::fprintf(stderr,
-                   "slamdunk viewer: the window thread did not answer in %.0f s; its window is "
-                   "left open to the end of the process\n",
-                   kWindowThreadAnswerSeconds);
-    } else {
+    if (window_thread::waitUntil(kWindowThreadAnswerSeconds,
+                                 [&] { return requestsDone->load(); })) {
       const auto before = window_->getLastWindowImagePtr();
-      waitFor(5, [&] {
+      window_thread::waitUntil(5, [&] {
         const auto now = window_->getLastWindowImagePtr();
         return now && now != before;
       });
       window_->captureImagesStop();
     }
+    // MRPT's own close (the window's destructor) stops waiting after 6 s and frees the window
+    // while its close is still queued; this one waits as long as the thread takes.
+    if (!window_thread::close(*window_, kWindowThreadAnswerSeconds))
+      std::fprintf(stderr,
+                   "slamdunk viewer: MRPT's window thread did not close the window in %.0f s\n",
+                   kWindowThreadAnswerSeconds);
   }
-  if (keys_ && window_) keys_->observeEnd(*window_);
-  if (windowThreadStuck)
-    (void)window_.release();  // deliberately not freed: its thread may still use it
-  else
-    window_.reset();
+  // Not freed: events queued before the close may still name the window and its observer
+  // (window_thread::keepToTheEnd). The memory kept is the closed window's scene.
+  struct ClosedWindow {
+    std::unique_ptr<KeyQueue> keys;
+    std::unique_ptr<mrpt::gui::CDisplayWindow3D> window;
+  };
+  if (window_)
+    window_thread::keepToTheEnd(
+        std::make_shared<ClosedWindow>(ClosedWindow{std::move(keys_), std::move(window_)}));
   keys_.reset();
 }
 

@@ -64,7 +64,9 @@ class LiveViewer {
   /// Opens the window. Throws std::runtime_error when no X display can be opened (DISPLAY
   /// unset or unreachable) or the window cannot be created.
   LiveViewer(std::shared_ptr<const KeyframeGraph> graph, ViewerOptions options = {});
-  /// Closes the window.
+  /// Closes the window, once MRPT's window thread has handled every request before the close
+  /// however long that takes. The closed window object (and its scene) is kept to the process's
+  /// end, when its thread is stopped and waited for (src/MrptWindowThread.h says why).
   ~LiveViewer();
   LiveViewer(const LiveViewer&) = delete;
   LiveViewer& operator=(const LiveViewer&) = delete;
