@@ -28,6 +28,8 @@ void printLiveSummary(const LiveFigures& fig, bool json) {
         c.received, c.processed, c.dropped);
     std::printf("  \"latency_ms_p50\": %.3f, \"latency_ms_p95\": %.3f, \"latency_ms_max\": %.3f,\n",
                 median(f.latenciesMs), p95(f.latenciesMs), maxOf(f.latenciesMs));
+    std::printf("  \"source_gap_ms_max\": %.3f, \"queue_wait_ms_max\": %.3f,\n",
+                c.longestSourceGapMs, c.longestQueueWaitMs);
     std::printf(
         "  \"tracked\": %zu, \"lost\": %zu, \"tracked_depth_only\": %zu, \"keyframes\": %zu, "
         "\"optimizations\": %zu, \"loop_closures\": %zu,\n",
@@ -67,6 +69,10 @@ void printLiveSummary(const LiveFigures& fig, bool json) {
               c.received, c.processed, c.dropped);
   std::printf("  latency:       grab to pose %.1f ms median, %.1f p95, %.1f max\n",
               median(f.latenciesMs), p95(f.latenciesMs), maxOf(f.latenciesMs));
+  std::printf(
+      "  delays:        longest gap between frames from the source %.1f ms, longest wait "
+      "for the tracker %.1f ms\n",
+      c.longestSourceGapMs, c.longestQueueWaitMs);
   std::printf("  tracking:      %zu tracked (%zu by depth alone), %zu lost\n", c.tracked,
               f.stats.trackedDepthOnly, c.lost);
   for (const auto& why : f.stats.lostReasons) std::printf("    lost because: %s\n", why.c_str());

@@ -1,4 +1,6 @@
+#include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/RgbdFrame.h>
 
 #include "TestData.h"
 
@@ -11,6 +13,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 using namespace slamdunk;
 
@@ -42,7 +45,76 @@ std::string writeRawlog(const std::string& path, bool sensoryFrames) {
   }
   return path;
 }
+/// A rawlog whose scans keep both images in "<name>_Images", as tum2rawlog and synthetic-rgbd
+/// write them (colour PNG, depth as MRPT's external matrix).
+std::string writeExternalImagesRawlog(const std::string& dir) {
+  const std::string path = dir + "/ext.rawlog";
+  const std::string images = RawlogReader::imagesDirectoryFor(path);
+  std::filesystem::create_directories(images);
+  mrpt::io::CFileGZOutputStream f(path);
+  auto a = mrpt::serialization::archiveFrom(f);
+  for (int i = 0; i < 3; ++i) {
+    auto obs = scanAt(i);
+    const std::string rgb = "rgb" + std::to_string(i) + ".png";
+    cv::imwrite(images + "/" + rgb, cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 20, 30 + i)));
+    obs->intensityImage.setExternalStorage(rgb);
+    obs->rangeImage_convertToExternalStorage("depth" + std::to_string(i) + ".bin", images + "/");
+    a << *obs;
+  }
+  return path;
+}
+
+/// Reads every scan of `path` with `read`, removes the images folder, then looks at the
+/// colour pixels: they are there only if reading decoded them.
+template <class Read>
+void expectColourDecodedByTheReader(const std::string& path, Read read) {
+  const auto scans = read(path);
+  ASSERT_EQ(scans.size(), 3u);
+  std::filesystem::remove_all(RawlogReader::imagesDirectoryFor(path));
+  for (size_t i = 0; i < scans.size(); ++i) {
+    const cv::Mat& colour = scans[i]->intensityImage.asCvMatRef();
+    ASSERT_EQ(colour.rows, 24) << "scan " << i;
+    EXPECT_EQ(colour.at<cv::Vec3b>(5, 5)[2], 30 + i) << "scan " << i;
+    EXPECT_EQ(scans[i]->rangeImage(5, 5), 1234) << "scan " << i;
+  }
+}
+
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> readAll(RawlogReader& r, bool allImages) {
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> scans;
+  while (auto obs = r.next()) {
+    if (allImages)
+      loadExternalImages(*obs);
+    else
+      obs->load();
+    scans.push_back(obs);
+  }
+  return scans;
+}
 }  // namespace
+
+// MRPT's load() reads an external depth matrix but leaves a lazily stored colour image to its
+// first access: a grabber or prefetcher that only called load() left the colour image's file
+// read and decoding to the tracking thread. loadExternalImages loads both where it is called.
+TEST(RawlogReader, LoadExternalImagesDecodesTheColourImageToo) {
+  const std::string dir = test::scratchDir("RawlogReader_ExternalImages");
+  {
+    // What the bug was: load() alone, images gone, colour pixels not there.
+    RawlogReader r(writeExternalImagesRawlog(dir));
+    const auto scans = readAll(r, false);
+    std::filesystem::remove_all(RawlogReader::imagesDirectoryFor(r.path()));
+    EXPECT_ANY_THROW(scans[0]->intensityImage.asCvMatRef());
+  }
+  expectColourDecodedByTheReader(writeExternalImagesRawlog(dir), [](const std::string& path) {
+    RawlogReader r(path);
+    return readAll(r, true);
+  });
+  expectColourDecodedByTheReader(writeExternalImagesRawlog(dir), [](const std::string& path) {
+    PrefetchingRawlogReader r(path, 8);
+    std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> scans;
+    while (auto obs = r.next()) scans.push_back(obs);
+    return scans;
+  });
+}
 
 TEST(RawlogReader, ReadsObservationOnlyFormatAndSkipsOthers) {
   const std::string dir = test::scratchDir("RawlogReader_Obs");

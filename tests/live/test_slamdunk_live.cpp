@@ -89,9 +89,11 @@ TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
   const double liveAte = live.value("ate_rmse_m");
   std::printf(
       "7scenes at 1x: received %g, dropped %g, processed %g at %.1f frames/s, ATE %.4f m "
-      "(offline %.4f m), optimizations %g\n",
+      "(offline %.4f m), optimizations %g; longest gap between frames %.1f ms, longest wait "
+      "for the tracker %.1f ms\n",
       live.value("frames_received"), live.value("frames_dropped"), live.value("frames_processed"),
-      live.value("fps_processed"), liveAte, offlineAte, live.value("optimizations"));
+      live.value("fps_processed"), liveAte, offlineAte, live.value("optimizations"),
+      live.value("source_gap_ms_max"), live.value("queue_wait_ms_max"));
   EXPECT_EQ(live.value("frames_received"), 1000) << live.result.output;
   // Paced by the timestamps: 1000 frames at 30 Hz take 33.3 s, not the offline app's ~15 s.
   EXPECT_NEAR(live.value("active_s"), 33.3, 1.5) << live.result.output;
@@ -546,4 +548,9 @@ TEST(SlamdunkLiveBadInput, BadSourceSections) {
   r = runLive(test::sourceDir() + "/config-ini/live-openni2.ini", dir, "--speed 2");
   EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
   EXPECT_NE(r.result.output.find("replay source only"), std::string::npos) << r.result.output;
+
+  r = runLive(replayIni(dir, "x.rawlog", "", "read_ahead_frames = 0"), dir);
+  EXPECT_EQ(r.result.exitCode, 1) << r.result.output;
+  EXPECT_NE(r.result.output.find("read_ahead_frames must be >= 1"), std::string::npos)
+      << r.result.output;
 }

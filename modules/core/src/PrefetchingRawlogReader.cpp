@@ -1,5 +1,6 @@
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/PrefetchingRawlogReader.h>
+#include <slamdunk/core/RgbdFrame.h>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -9,8 +10,9 @@
 
 namespace slamdunk {
 
-PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth)
-    : reader_(path), depth_(std::max<size_t>(depth, 1)) {
+PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth,
+                                                 int niceness)
+    : reader_(path), depth_(std::max<size_t>(depth, 1)), niceness_(niceness) {
   thread_ = std::thread([this] { readLoop(); });
 }
 
@@ -24,9 +26,10 @@ PrefetchingRawlogReader::~PrefetchingRawlogReader() {
 }
 
 void PrefetchingRawlogReader::readLoop() {
-  // Lowest priority: decoding fills the gaps the tracking thread leaves (its single-threaded
-  // stages free a core) instead of slowing the frame being tracked. Linux nices threads.
-  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+  // Offline at the lowest priority: decoding fills the gaps the tracking thread leaves (its
+  // single-threaded stages free a core) instead of slowing the frame being tracked. Linux
+  // nices threads.
+  if (niceness_ != 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), niceness_);
   for (;;) {
     {
       std::unique_lock lock(mutex_);
@@ -38,7 +41,7 @@ void PrefetchingRawlogReader::readLoop() {
       item.scan = reader_.next();
       if (item.scan) {
         try {
-          item.scan->load();
+          loadExternalImages(*item.scan);
         } catch (const std::exception& e) {
           // Externally stored images: MRPT's error names the image, not the rawlog.
           throw std::runtime_error(

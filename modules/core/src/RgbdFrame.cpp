@@ -40,6 +40,13 @@ void matchResolution(CameraIntrinsics& K, const cv::Mat& image, const std::strin
 }
 }  // namespace
 
+void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs) {
+  obs.load();
+  // forceLoad() leaves an image that is not externally stored as it is.
+  if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
+  if (obs.hasConfidenceImage) obs.confidenceImage.forceLoad();
+}
+
 RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
                      CameraIntrinsics intrinsics, cv::Mat colour)
     : timestamp_(timestamp),
@@ -59,7 +66,7 @@ RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
 RgbdFrame RgbdFrame::fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
   const std::string what = "observation '" + printableText(obs.sensorLabel) +
                            "' at t=" + std::to_string(mrpt::Clock::toDouble(obs.timestamp));
-  obs.load();  // externally stored images
+  loadExternalImages(obs);
   if (!obs.hasIntensityImage || obs.intensityImage.isEmpty())
     throw std::runtime_error(what + " has no colour (intensity) image");
   if (!obs.hasRangeImage || obs.rangeImage.rows() == 0)

@@ -37,6 +37,8 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
     std::string rawlog = r.readString("rawlog", "");
     double speed = r.readDouble("speed", 1.0);
     const int loops = r.readInt("loops", 1);
+    const int readAhead =
+        r.readInt("read_ahead_frames", static_cast<int>(ReplayFrameSource::kDefaultReadAhead));
     r.rejectUnknownKeys();
     rawlog = overrides.rawlog ? *overrides.rawlog : resolve(rawlog, iniDir);
     if (overrides.speed) speed = *overrides.speed;
@@ -46,6 +48,10 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
     if (!(speed > 0)) throw std::runtime_error("replay speed must be > 0 (1 = real time)");
     if (loops < 0)
       throw std::runtime_error("[" + section + "] loops must be >= 0 (0 = until stopped)");
+    if (readAhead < 1)
+      throw std::runtime_error("[" + section +
+                               "] read_ahead_frames must be >= 1 (frames decoded "
+                               "ahead of their due time)");
     // tum2rawlog and --record write the exposure's instant already: a second correction would
     // put every frame early.
     if (sensorStampLatencyMs != 0)
@@ -53,7 +59,8 @@ std::unique_ptr<FrameSource> makeFrameSource(const mrpt::config::CConfigFileBase
           "sensor_stamp_latency_ms applies to camera drivers, not to [" + section +
           "] driver = replay: a rawlog's stamps are taken as they are (tum2rawlog and --record "
           "write the exposure's instant)");
-    return std::make_unique<ReplayFrameSource>(rawlog, speed, loops);
+    return std::make_unique<ReplayFrameSource>(rawlog, speed, loops,
+                                               static_cast<size_t>(readAhead));
   }
   if (overrides.rawlog || overrides.speed)
     throw std::runtime_error("--rawlog and --speed apply to a replay source only; [" + section +

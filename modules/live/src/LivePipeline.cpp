@@ -2,6 +2,14 @@
 
 namespace slamdunk::live {
 
+namespace {
+/// Each counter has one writing thread: a plain load and store is enough.
+void keepLongest(std::atomic<std::chrono::steady_clock::rep>& longest,
+                 std::chrono::steady_clock::duration d) {
+  if (d.count() > longest.load()) longest = d.count();
+}
+}  // namespace
+
 LivePipeline::LivePipeline(FrameSource& source, SlamSystem& slam, size_t queueCapacity,
                            RawlogRecorder* recorder, size_t maxFrames, FrameHook hook)
     : source_(source),
@@ -59,11 +67,16 @@ void LivePipeline::grabberLoop() {
   }
   openChanged_.notify_all();
   try {
+    Clock::time_point previousGrab;
     while (!stop_) {
       auto frame = source_.next(stop_);
       if (!frame) break;
       const auto grabbed = Clock::now();
-      if (received_ == 0) firstFrame_ = grabbed.time_since_epoch().count();
+      if (received_ == 0)
+        firstFrame_ = grabbed.time_since_epoch().count();
+      else
+        keepLongest(longestSourceGap_, grabbed - previousGrab);
+      previousGrab = grabbed;
       ++received_;
       if (recorder_) recorder_->add(*frame);
       queue_.push(std::move(frame), grabbed);  // drops (and counts) the oldest when tracking lags
@@ -80,6 +93,7 @@ void LivePipeline::grabberLoop() {
 void LivePipeline::trackingLoop() {
   Clock::time_point grabbed;
   while (auto frame = queue_.pop(&grabbed)) {
+    keepLongest(longestQueueWait_, Clock::now() - grabbed);
     const TrackingResult r = slam_.process(*frame);
     const double latencyMs =
         std::chrono::duration<double, std::milli>(Clock::now() - grabbed).count();
@@ -114,6 +128,11 @@ LiveCounters LivePipeline::counters() const {
   c.lost = lost_;
   c.keyframes = keyframes_;
   c.lastStatus = static_cast<TrackingStatus>(lastStatus_.load());
+  const auto ms = [](Clock::rep ticks) {
+    return std::chrono::duration<double, std::milli>(Clock::duration(ticks)).count();
+  };
+  c.longestSourceGapMs = ms(longestSourceGap_);
+  c.longestQueueWaitMs = ms(longestQueueWait_);
   const auto first = firstFrame_.load(), last = lastProcessed_.load();
   if (first && last > first)
     c.activeSeconds = std::chrono::duration<double>(Clock::duration(last - first)).count();

@@ -1,5 +1,7 @@
 #include <slamdunk/live/PushFrameSource.h>
 
+#include <slamdunk/core/RgbdFrame.h>
+
 #include <algorithm>
 #include <chrono>
 
@@ -43,7 +45,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr PushFrameSource::next(const std::atomic<
   auto frame = std::move(frames_.front());
   frames_.pop_front();
   lock.unlock();
-  frame->load();  // externally stored images, as the other sources hand them over decoded
+  loadExternalImages(*frame);  // as the other sources hand them over decoded
   return frame;
 }
 

@@ -8,16 +8,23 @@
 
 namespace slamdunk::live {
 
-ReplayFrameSource::ReplayFrameSource(std::string rawlogPath, double speed, int loops)
-    : path_(std::move(rawlogPath)), speed_(speed), loops_(loops) {
+ReplayFrameSource::ReplayFrameSource(std::string rawlogPath, double speed, int loops,
+                                     size_t readAhead)
+    : path_(std::move(rawlogPath)), speed_(speed), loops_(loops), readAhead_(readAhead) {
   if (!(speed_ > 0)) throw std::runtime_error("replay speed must be > 0");
   if (loops_ < 0) throw std::runtime_error("replay loops must be >= 0 (0 = until stopped)");
+  if (readAhead_ < 1) throw std::runtime_error("replay read-ahead must be >= 1 frame");
+}
+
+std::unique_ptr<PrefetchingRawlogReader> ReplayFrameSource::openReader() const {
+  // At the process's priority: the frames must be ready when due, as a camera's would be.
+  return std::make_unique<PrefetchingRawlogReader>(path_, readAhead_, 0);
 }
 
 void ReplayFrameSource::open() {
   if (!std::filesystem::is_regular_file(path_))
     throw std::runtime_error("replay rawlog '" + path_ + "' does not exist");
-  reader_ = std::make_unique<RawlogReader>(path_);
+  reader_ = openReader();
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::nextScan() {
@@ -30,7 +37,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::nextScan() {
     lapOffset_ += firstLapSpan + interval;
     ++lap_;
     lapFrames_ = 0;
-    reader_ = std::make_unique<RawlogReader>(path_);
+    reader_ = openReader();
     obs = reader_->next();
   }
   if (!obs) return nullptr;
@@ -53,8 +60,6 @@ mrpt::obs::CObservation3DRangeScan::Ptr ReplayFrameSource::next(const std::atomi
                                " other observations)");
     return nullptr;
   }
-  // Decoding is part of "grabbing": a camera also hands over decoded images.
-  obs->load();
   const double stamp = mrpt::Clock::toDouble(obs->timestamp);
   if (!started_) {
     started_ = true;

@@ -3,6 +3,7 @@
 #include "StdoutToStderr.h"
 
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/core/TumSequence.h>
 
 #include <mrpt/hwdrivers/COpenNI2Generic.h>
@@ -151,7 +152,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr SensorFrameSource::next(const std::atomi
   }
   auto obs = pending_.front();
   pending_.pop_front();
-  obs->load();  // externally stored images (CCameraSensor replaying a rawlog)
+  loadExternalImages(*obs);  // CCameraSensor replaying a rawlog
   obs->timestamp -= std::chrono::duration_cast<mrpt::Clock::duration>(
       std::chrono::duration<double, std::milli>(stampLatencyMs_));
   return obs;

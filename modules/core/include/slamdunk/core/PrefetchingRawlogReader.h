@@ -15,8 +15,10 @@ namespace slamdunk {
 
 class PrefetchingRawlogReader {
  public:
-  /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead.
-  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4);
+  /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead
+  /// on a thread of nice value `niceness`: 19 (the lowest priority) fills the gaps a busy
+  /// consumer leaves offline; a replay paced like a camera keeps the process's priority, 0.
+  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4, int niceness = 19);
   ~PrefetchingRawlogReader();  ///< stops the reading thread
   PrefetchingRawlogReader(const PrefetchingRawlogReader&) = delete;
   PrefetchingRawlogReader& operator=(const PrefetchingRawlogReader&) = delete;
@@ -40,6 +42,7 @@ class PrefetchingRawlogReader {
 
   RawlogReader reader_;
   const size_t depth_;
+  const int niceness_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Item> ready_;

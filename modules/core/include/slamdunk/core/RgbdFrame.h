@@ -18,6 +18,13 @@ namespace slamdunk {
 /// other), else the nearest pixel's; 0 outside the image.
 float interpolatedDepth(const cv::Mat& depth, double u, double v);
 
+/// Loads everything `obs` keeps in external files, on the calling thread. MRPT's load() reads
+/// the depth only: a lazily stored colour image is decoded on its first access instead, on
+/// whichever thread that is (the tracking thread, where a file read can wait on the disk).
+/// Readers and grabbers call this so the decoding stays theirs. Throws like MRPT when a file
+/// is missing or unreadable.
+void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs);
+
 class RgbdFrame {
  public:
   /// Builds a frame from an MRPT observation (loads externally stored images if needed).

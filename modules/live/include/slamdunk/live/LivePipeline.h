@@ -27,6 +27,10 @@ struct LiveCounters {
   size_t received = 0, processed = 0, dropped = 0, tracked = 0, lost = 0, keyframes = 0;
   TrackingStatus lastStatus = TrackingStatus::Lost;
   double activeSeconds = 0;  ///< from the first frame received to the last one processed
+  /// Where a delay came from when frames were dropped: the source (the longest time between
+  /// two frames it handed over; a replay at 30 Hz: 33 ms) or the tracker (the longest time a
+  /// processed frame waited in the queue).
+  double longestSourceGapMs = 0, longestQueueWaitMs = 0;
 };
 
 class LivePipeline {
@@ -62,7 +66,6 @@ class LivePipeline {
   using Clock = std::chrono::steady_clock;
   void grabberLoop();
   void trackingLoop();
-  double secondsSince(Clock::time_point t) const;
 
   FrameSource& source_;
   SlamSystem& slam_;
@@ -74,7 +77,8 @@ class LivePipeline {
   std::atomic<bool> stop_{false}, trackingDone_{false};
   std::atomic<size_t> received_{0}, processed_{0}, tracked_{0}, lost_{0}, keyframes_{0};
   std::atomic<int> lastStatus_{static_cast<int>(TrackingStatus::Lost)};
-  std::atomic<Clock::rep> firstFrame_{0}, lastProcessed_{0};  ///< Clock ticks, 0 = not yet
+  std::atomic<Clock::rep> firstFrame_{0}, lastProcessed_{0};           ///< Clock ticks, 0 = not yet
+  std::atomic<Clock::rep> longestSourceGap_{0}, longestQueueWait_{0};  ///< Clock ticks
 
   enum class OpenState { Pending, Open, Failed };
   mutable std::mutex mutex_;  // guards openState_, error_, latenciesMs_

@@ -17,8 +17,8 @@ class PushFrameSource : public FrameSource {
   /// this only fills when the whole process is starved); beyond that the oldest is dropped.
   explicit PushFrameSource(size_t capacity = 8);
 
-  /// Queues a frame; its images must be in memory or loadable (obs->load() is called on the
-  /// grabber thread). Returns false (the frame is ignored) once close() was called.
+  /// Queues a frame; its images must be in memory or loadable (loaded on the grabber
+  /// thread: loadExternalImages). Returns false (the frame is ignored) once close() was called.
   bool push(mrpt::obs::CObservation3DRangeScan::Ptr frame);
   /// No more frames: the pipeline processes those already pushed, then ends.
   void close();
