@@ -385,10 +385,7 @@ void LiveViewer::closeWindow() {
     }
     window_->captureImagesStart();
     window_->forceRepaint();
-    auto requestsDone = std::make_shared<std::atomic<bool>>(false);
-    window_->sendFunctionToRunOnGUIThread([requestsDone] { *requestsDone = true; });
-    if (window_thread::waitUntil(kWindowThreadAnswerSeconds,
-                                 [&] { return requestsDone->load(); })) {
+    if (window_thread::run([] {}, kWindowThreadAnswerSeconds)) {
       const auto before = window_->getLastWindowImagePtr();
       window_thread::waitUntil(5, [&] {
         const auto now = window_->getLastWindowImagePtr();
