@@ -119,7 +119,10 @@ void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const 
     frameCsv_->add(r, grabbed, latencyMs, keyframesSeen_);
   }
   if (r.skipped) return;  // a timestamp that did not increase: not part of the trajectory
-  if (checkpoints_) frameLog_.append({r.timestamp, r.status, r.reference, r.poseInReference});
+  if (checkpoints_) {
+    frameLog_.revise(r.revisedFrames);
+    frameLog_.append({r.timestamp, r.status, r.reference, r.poseInReference});
+  }
   const bool tracked = r.status != TrackingStatus::Lost;
   if (checkpoints_) checkpoints_->frameProcessed(tracked, r.newKeyframe);
 

@@ -70,6 +70,21 @@ TrackingResult SlamSystem::process(const mrpt::obs::CObservation3DRangeScan& obs
   }
 }
 
+size_t reviseFrameRecords(SessionLog<FrameRecord>& records,
+                          const std::vector<TrackingResult::RevisedFrame>& revised) {
+  size_t replaced = 0;
+  size_t fromNewest = 0;
+  for (auto it = revised.rbegin(); it != revised.rend(); ++it) {  // newest first, like the walk
+    FrameRecord* record = records.recent(fromNewest);
+    while (record && record->timestamp > it->timestamp) record = records.recent(++fromNewest);
+    if (!record || record->timestamp != it->timestamp) break;
+    record->reference = it->reference;
+    record->poseInReference = it->poseInReference;
+    ++replaced;
+  }
+  return replaced;
+}
+
 TrackingResult SlamSystem::process(const RgbdFrame& frame) {
   if (auto skipped = outOfOrder(frame.timestamp())) return *skipped;
   return track(frame);
@@ -77,6 +92,7 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
 
 TrackingResult SlamSystem::track(const RgbdFrame& frame) {
   TrackingResult r = tracker_.process(frame);
+  reviseFrameRecords(frames_, r.revisedFrames);
   frames_.push_back({r.timestamp, r.status, r.reference, r.poseInReference});
   {
     std::lock_guard lock(statsMutex_);

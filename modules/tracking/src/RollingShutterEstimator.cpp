@@ -76,8 +76,10 @@ void RollingShutterEstimator::addFrame(const std::vector<InlierSample>& inliers,
     sum += e.information * e.readoutMs;
     information_ += e.information;
   }
-  if (sigmaMs() <= options_.maxSigmaMs)
+  if (sigmaMs() <= options_.maxSigmaMs) {
     current_ = std::clamp(sum / information_, 0.0, options_.maxMs);
+    learned_ = true;
+  }
 }
 
 }  // namespace slamdunk

@@ -96,6 +96,11 @@ class SessionLog {
   bool empty() const { return size() == 0; }
   /// The newest entry (the log must not be empty).
   const T& back() const { return recent_.empty() ? *lastSpilled_ : recent_.back(); }
+  /// The entry `fromNewest` entries before the newest (0: the newest), to correct a recent
+  /// entry in place; nullptr when it is not in memory (gone to the file, or no such entry).
+  T* recent(size_t fromNewest) {
+    return fromNewest < recent_.size() ? &recent_[recent_.size() - 1 - fromNewest] : nullptr;
+  }
 
   /// Calls visit(entry) for every entry, oldest first.
   template <class Visit>

@@ -16,13 +16,18 @@ namespace slamdunk::live {
 class FrameLog {
  public:
   void append(const FrameRecord& record);
-  /// Moves the records appended since the last call to the end of `out` (the reader's copy).
+  /// New poses for frames already appended (TrackingResult::revisedFrames), applied to the
+  /// reader's copy at the next takeNew() (reviseFrameRecords).
+  void revise(const std::vector<TrackingResult::RevisedFrame>& revised);
+  /// Moves the records appended since the last call to the end of `out` (the reader's copy),
+  /// and applies the revisions.
   void takeNew(SessionLog<FrameRecord>& out);
 
  private:
   std::mutex mutex_;
   std::vector<FrameRecord> pending_;  ///< appended since the last takeNew()
   std::vector<FrameRecord> spare_;    ///< the reader's side of the swap, its capacity kept
+  std::vector<TrackingResult::RevisedFrame> revisions_, spareRevisions_;  ///< likewise
 };
 
 }  // namespace slamdunk::live

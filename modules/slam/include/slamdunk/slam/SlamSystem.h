@@ -63,6 +63,13 @@ struct SessionLogCodec<FrameRecord> {
 size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,
                           const std::function<void(double, const Pose&)>& visit);
 
+/// Replaces the poses of frames the tracker estimated again (TrackingResult::revisedFrames),
+/// found by their stamps among the newest records (the tracker revises the frames just before
+/// the one it reports them with, eight at most). Returns how many were replaced: a record no
+/// longer in memory (gone to the log's file at a chunk's end) keeps its first pose.
+size_t reviseFrameRecords(SessionLog<FrameRecord>& records,
+                          const std::vector<TrackingResult::RevisedFrame>& revised);
+
 struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
   size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone

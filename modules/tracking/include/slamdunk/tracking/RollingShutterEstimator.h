@@ -38,6 +38,8 @@ class RollingShutterEstimator {
                 double intervalMs, const DepthNoiseModel& noise, double appliedMs);
   /// The initial value until enough evidence was gathered, then the estimate.
   double readoutMs() const { return current_; }
+  /// Whether readoutMs() is an estimate (enough evidence came), not the initial value.
+  bool learned() const { return learned_; }
   /// Standard deviation of the pooled evidence (infinite before any).
   double sigmaMs() const;
 
@@ -48,6 +50,7 @@ class RollingShutterEstimator {
   };
   RollingShutterEstimatorOptions options_;
   double current_;
+  bool learned_ = false;
   std::deque<Evidence> window_;
   double information_ = 0;  ///< summed over the window
 };

@@ -61,6 +61,15 @@ struct TrackingResult {
   std::vector<cv::Point2f> inlierPixels, rejectedPixels;
   std::string lostReason;
   StageTimings timings;
+  /// Frames before this one whose poses were estimated again, oldest first: the frames
+  /// registered before the camera's rolling-shutter readout was learned, registered again
+  /// once it was (this frame). Whoever keeps the trajectory replaces their poses.
+  struct RevisedFrame {
+    double timestamp = 0;
+    KeyframeId reference = 0;
+    Pose poseInReference = Pose::Identity();
+  };
+  std::vector<RevisedFrame> revisedFrames;
 };
 
 class Tracker {
@@ -144,10 +153,39 @@ class Tracker {
     RgbdFrame frame;
     FeatureSet raw;
   };
+  /// Stores the first keyframe's points undone with the camera's `motion` over `intervalMs` as
+  /// its refined points, and builds firstPairPool_ of that keyframe alone around `poolCentre`.
+  void undoFirstKeyframeTiming(const FirstKeyframe& first, const Pose& motion, double intervalMs,
+                               const Pose& poolCentre);
   bool registerFirstPair(const FirstKeyframe& first, const RgbdFrame& frame, const FeatureSet& raw,
                          FeatureSet& features, TrackingResult& r,
                          std::vector<PoolMatch>& inlierMatches, Pose& pose,
                          FrameVelocity* velocity);
+  /// The frames tracked between the first keyframe and the readout's first estimate: a
+  /// rolling shutter taken for none bent their points (and the first keyframe's) by up to
+  /// centimetres on a fast-turning hand-held camera, and moved their poses by as much. Kept
+  /// (kMaxEarlyFrames at most, while the first keyframe is the only one) to be registered
+  /// again once the readout is learned: reviseEarlyFrames.
+  struct EarlyFrame {
+    RgbdFrame frame;
+    FeatureSet raw;         ///< before any timing compensation
+    double intervalMs = 0;  ///< since the frame before it (or the first keyframe)
+    Pose pose;
+  };
+  static constexpr size_t kMaxEarlyFrames = 4;
+  /// Keeps this registered frame for reviseEarlyFrames, or gives up on revising when it cannot
+  /// be (lost, a second keyframe, too many frames).
+  void keepEarlyFrame(const TrackingResult& r, const RgbdFrame& frame, const FeatureSet& raw,
+                      double intervalMs, const Pose& pose);
+  /// With the readout just learned: the first keyframe's points are undone with it, and the
+  /// kept frames and this one registered again in order against that keyframe alone, each
+  /// with the motion from the frame before it. The kept frames' new poses go to
+  /// r.revisedFrames; this frame's replace its result (registeredPool then points to
+  /// firstPairPool_). A failed re-registration keeps the first estimate.
+  void reviseEarlyFrames(const RgbdFrame& frame, const FeatureSet& raw, double intervalMs,
+                         FeatureSet& features, TrackingResult& r,
+                         std::vector<PoolMatch>& inlierMatches, Pose& pose,
+                         const FeaturePool*& registeredPool);
   /// Dense depth term against the keyframe sharing most inliers (empty if it has no depth).
   std::optional<DepthAlignmentTerm> depthTermFor(const RgbdFrame& frame, const FeaturePool& pool,
                                                  const std::vector<PoolMatch>& matches,
@@ -206,6 +244,8 @@ class Tracker {
   SensorTiming sensorTiming_;
   std::optional<FirstKeyframe> firstKeyframe_;
   FeaturePool firstPairPool_;
+  std::optional<FirstKeyframe> earlyKeyframe_;  ///< the first keyframe, while frames are kept
+  std::vector<EarlyFrame> earlyFrames_;
   RollingShutterEstimator rollingShutter_;
   KeyframeId lastReference_ = 0;  ///< of the last tracked frame
   /// One keyframe's depth prepared for alignment, once per keyframe: frame after frame meets
