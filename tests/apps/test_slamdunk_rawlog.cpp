@@ -398,12 +398,17 @@ SlamRun checkHandHeld(const std::string& trajectory, bool kinect, const std::str
   return r;
 }
 
+using HandHeldParam = std::tuple<std::string, bool>;  ///< trajectory, Kinect-like depth
+std::string handHeldTestName(const ::testing::TestParamInfo<HandHeldParam>& info) {
+  return std::get<0>(info.param) + (std::get<1>(info.param) ? "_kinect" : "_exact");
+}
+
 // The camera's timing given as its calibration (the readout is learned on from there),
 // measured with each frame's velocity estimated: rotations 1.2 / 3.5 mm ATE, 2.5 / 8.9 mm per
-// frame; shake 1.9 / 3.5 mm ATE, 6.9 / 9.3 mm per frame; the 2.5-minute scan 2.4 / 7.6 mm ATE,
+// frame; shake 1.8 / 3.7 mm ATE, 6.2 / 10.2 mm per frame; the 2.5-minute scan 2.4 / 7.6 mm ATE,
 // 3.4 / 7.7 mm per frame. With the motion between frames extrapolated instead, the shake's
 // first pair erred by 2.0 / 2.2 cm.
-class HandHeld : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
+class HandHeld : public ::testing::TestWithParam<HandHeldParam> {};
 
 TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
   const auto& [trajectory, kinect] = GetParam();
@@ -438,7 +443,7 @@ std::string defaultIniWithDepthOffset() {
 // that, the shake's first frame pairs erred by 2.0-2.35 cm / 0.7 deg (the benchmark's table);
 // with it, its first pairs 6.4 mm at most, and every pair at most 1.2 cm / 0.23 deg over
 // three texture seeds.
-class HandHeldLearningTiming : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
+class HandHeldLearningTiming : public ::testing::TestWithParam<HandHeldParam> {};
 
 TEST_P(HandHeldLearningTiming, EveryFrameTrackedWithoutJumps) {
   const auto& [trajectory, kinect] = GetParam();
@@ -452,10 +457,7 @@ TEST_P(HandHeldLearningTiming, EveryFrameTrackedWithoutJumps) {
 INSTANTIATE_TEST_SUITE_P(Synthetic, HandHeldLearningTiming,
                          ::testing::Combine(::testing::Values("rotations", "shake"),
                                             ::testing::Bool()),
-                         [](const auto& info) {
-                           return std::get<0>(info.param) +
-                                  (std::get<1>(info.param) ? "_kinect" : "_exact");
-                         });
+                         handHeldTestName);
 
 // The default INI learns the readout from nothing (rolling_shutter_ms = 0). On the slow scan
 // it came out at 42 ms for this 20 ms camera while each frame's velocity had a fixed prior as
@@ -478,10 +480,7 @@ TEST(SlamdunkRawlog, HandHeldScanLearnsItsCamerasReadout) {
 INSTANTIATE_TEST_SUITE_P(Synthetic, HandHeld,
                          ::testing::Combine(::testing::Values("rotations", "shake", "scan"),
                                             ::testing::Bool()),
-                         [](const auto& info) {
-                           return std::get<0>(info.param) +
-                                  (std::get<1>(info.param) ? "_kinect" : "_exact");
-                         });
+                         handHeldTestName);
 
 TEST(SlamdunkRawlogBadInput, RawlogWithoutRangeScans) {
   const std::string dir = test::scratchDir("SlamBad_NoScans");
