@@ -6,12 +6,12 @@
 // to the same temporary folder, as scripts/live-disk-stall.sh does to a live replay.
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -68,11 +68,6 @@ class DiskPressure {
   std::thread thread_;
 };
 
-double percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -120,10 +115,12 @@ int main(int argc, char** argv) {
                 argPressure.getValue() ? "disk under pressure" : "quiet disk", records,
                 spilling.size(),
                 SessionLog<FrameRecord>::kChunk * SessionLogCodec<FrameRecord>::kBytes / 1024);
-    std::printf("append that spills  ms median %.3f  p95 %.3f  max %.3f\n",
-                percentile(spilling, 0.5), percentile(spilling, 0.95), percentile(spilling, 1.0));
-    std::printf("other appends       ms median %.4f  p95 %.4f  max %.3f\n", percentile(others, 0.5),
-                percentile(others, 0.95), percentile(others, 1.0));
+    const auto spills = eval::ErrorStatistics::compute(spilling);
+    const auto rest = eval::ErrorStatistics::compute(others);
+    std::printf("append that spills  ms median %.3f  p95 %.3f  max %.3f\n", spills.median,
+                spills.p95, spills.max);
+    std::printf("other appends       ms median %.4f  p95 %.4f  max %.3f\n", rest.median, rest.p95,
+                rest.max);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "bench-session-log: " << e.what() << "\n";
