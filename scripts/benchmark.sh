@@ -14,8 +14,10 @@ work=build/benchmark
 mkdir -p "$work"
 
 prepare() {  # prepare NAME SEQ CAMERA
-  # Converted again when the camera file changed (it decides the depth registration).
-  [ "$work/$1.rawlog" -nt "config-ini/cameras/$3" ] && return 0
+  # Converted again when the camera file or the converter changed (they decide the depth
+  # registration).
+  [ "$work/$1.rawlog" -nt "config-ini/cameras/$3" ] && [ "$work/$1.rawlog" -nt "$bin/tum2rawlog" ] &&
+    return 0
   [ -d "$data/$2" ] || { echo "skipping $1: $data/$2 not found" >&2; return 1; }
   "$bin/tum2rawlog" "$data/$2" "$work/$1.rawlog" --camera "config-ini/cameras/$3" \
     --external-images -q >/dev/null

@@ -7,7 +7,9 @@ cd "$(dirname "$0")/.."
 data=${SLAMDUNK_DATA_DIR:-$(pwd)/../shared/data}
 work=build/figure
 mkdir -p "$work" docs
-[ -f "$work/7scenes.rawlog" ] || build/bin/tum2rawlog "$data/7scenes/seq-1000f" \
+# Converted again when the camera file or the converter changed (they decide the registration).
+[ "$work/7scenes.rawlog" -nt config-ini/cameras/7scenes.ini ] &&
+  [ "$work/7scenes.rawlog" -nt build/bin/tum2rawlog ] || build/bin/tum2rawlog "$data/7scenes/seq-1000f" \
   "$work/7scenes.rawlog" --camera config-ini/cameras/7scenes.ini --external-images -q
 build/bin/slamdunk-rawlog "$work/7scenes.rawlog" -t "$work/trajectory.txt" -q \
   --save-map "$work/7scenes.map" --map-images

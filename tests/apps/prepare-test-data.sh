@@ -16,8 +16,12 @@ convert() {  # convert NAME SEQ_DIR CAMERA_INI [EXTRA_ARGS...]
     echo "prepare-test-data: $seq not found: tests on $name will be skipped"
     return
   fi
-  # Converted again when the camera file changed (it decides the depth registration).
-  if [ "$out/$name.rawlog" -nt "$cam" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
+  # Converted again when the camera file or the converter changed (they decide the depth
+  # registration).
+  if [ "$out/$name.rawlog" -nt "$cam" ] && [ "$out/$name.rawlog" -nt "$bin/tum2rawlog" ]; then
+    echo "prepare-test-data: $name.rawlog ready"
+    return
+  fi
   "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q "$@"
 }
 

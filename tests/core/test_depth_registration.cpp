@@ -75,6 +75,33 @@ TEST(DepthRegistration, ShorterColourFocalLengthReadsTheSurfaceSeenAtTheColourPi
   EXPECT_EQ(out.at<float>(r, 0), 0.f);
 }
 
+// Read at the nearest depth pixel's projection, a colour pixel's depth on this plane would be off
+// by up to half a pixel's worth of its slope (7 mm); read where the colour ray lands, it is the
+// plane's, with the cameras' centres together or apart.
+TEST(DepthRegistration, SlantedSurfaceIsReadWhereTheColourRayLands) {
+  const CameraIntrinsics depthK = camera(585.0 / 4), colourK = camera(525.0 / 4);
+  const Plane plane;
+  const double halfPixelOfSlope = 0.5 * plane.slope * plane.z0 * plane.z0 / depthK.fx;
+  ASSERT_GT(halfPixelOfSlope, 0.006);
+  for (const double offset : {0.0, 0.02}) {
+    const Eigen::Vector3d colourCentre(offset, 0, 0);
+    Eigen::Isometry3d depthToColour = Eigen::Isometry3d::Identity();
+    depthToColour.translation() = -colourCentre;
+    const cv::Mat out = registerDepthToColour(plane.render(depthK), depthK, colourK, depthToColour);
+    double worst = 0;
+    int checked = 0;
+    for (int r = 10; r < colourK.height - 10; ++r)
+      for (int c = 12; c < colourK.width - 12; ++c) {
+        const float z = out.at<float>(r, c);
+        ASSERT_GT(z, 0) << "hole at " << c << "," << r;
+        worst = std::max(worst, std::abs(z - plane.depthAt(colourK, c, r, colourCentre)));
+        ++checked;
+      }
+    EXPECT_GT(checked, 8000);
+    EXPECT_LT(worst, 5e-4) << "colour camera " << offset << " m from the depth camera";
+  }
+}
+
 TEST(DepthRegistration, OffsetCameraAndNearestSurfaceWins) {
   // Colour camera 2.5 cm right of the depth camera, same focal length; a box face at 1 m in
   // front of a wall at 3 m.

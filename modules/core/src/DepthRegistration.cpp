@@ -5,6 +5,23 @@
 #include <stdexcept>
 
 namespace slamdunk {
+namespace {
+
+// The depth at a sub-pixel position of `depth`, interpolated between its four pixels when they
+// agree within 2 % (one surface); false at a hole, an edge between surfaces or the border.
+bool depthOnOneSurfaceAt(const cv::Mat& depth, double x, double y, double& z) {
+  if (!(x >= 0 && y >= 0 && x < depth.cols - 1 && y < depth.rows - 1)) return false;
+  const int c = static_cast<int>(x), r = static_cast<int>(y);
+  const float a = depth.at<float>(r, c), b = depth.at<float>(r, c + 1);
+  const float d = depth.at<float>(r + 1, c), e = depth.at<float>(r + 1, c + 1);
+  const float lo = std::min({a, b, d, e}), hi = std::max({a, b, d, e});
+  if (!(lo > 0) || hi - lo > 0.02f * lo) return false;
+  const double fx = x - c, fy = y - r;
+  z = (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * d + fx * e);
+  return true;
+}
+
+}  // namespace
 
 cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& depthCamera,
                               const CameraIntrinsics& colourCamera,
@@ -25,17 +42,20 @@ cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& dept
   const double ratio = std::max(colourCamera.fx / depthCamera.fx, colourCamera.fy / depthCamera.fy);
   const int footprint =
       std::isfinite(ratio) ? static_cast<int>(std::clamp(std::ceil(ratio - 1e-9), 1.0, 16.0)) : 1;
+  // Most RGB-D cameras state no lens distortion: then the lens model is skipped per pixel.
+  const bool depthLens = depthCamera.hasDistortion(), colourLens = colourCamera.hasDistortion();
   cv::Mat out(colourCamera.height, colourCamera.width, CV_32F, cv::Scalar(0));
   for (int r = 0; r < depthF.rows; ++r) {
     const float* row = depthF.ptr<float>(r);
     for (int c = 0; c < depthF.cols; ++c) {
       const float z = row[c];
       if (!(z > 0) || !std::isfinite(z)) continue;
-      const Eigen::Vector2d und = depthCamera.undistortPixel(c, r);
+      const Eigen::Vector2d und =
+          depthLens ? depthCamera.undistortPixel(c, r) : Eigen::Vector2d(c, r);
       const Eigen::Vector3d p = depthToColour * depthCamera.backProject(und.x(), und.y(), z);
       if (!(p.z() > 0)) continue;
       const Eigen::Vector2d px = colourCamera.project(p);
-      const Eigen::Vector2d raw = colourCamera.distortPixel(px.x(), px.y());
+      const Eigen::Vector2d raw = colourLens ? colourCamera.distortPixel(px.x(), px.y()) : px;
       // Far outside the image (or NaN from a degenerate calibration): nothing to write, and
       // the int conversion below would overflow.
       if (!(std::abs(raw.x()) < 1e8 && std::abs(raw.y()) < 1e8)) continue;
@@ -48,6 +68,30 @@ cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& dept
         for (int u = std::max(u0, 0); u < std::min(u0 + footprint, out.cols); ++u)
           if (outRow[u] == 0 || zc < outRow[u]) outRow[u] = zc;
       }
+    }
+  }
+
+  // The splat above gives a colour pixel the depth of the depth pixel whose projection is
+  // nearest, up to half a pixel away: on a slanted surface an error fixed to the image, which
+  // a map keeps from every viewpoint. Where the colour ray's landing point in the depth image
+  // lies on one surface, the depth is read there instead (the splat's depth only places the
+  // ray's point: with the cameras' centres apart, where it lands depends on it, little).
+  const Eigen::Isometry3d colourToDepth = depthToColour.inverse();
+  for (int v = 0; v < out.rows; ++v) {
+    float* outRow = out.ptr<float>(v);
+    for (int u = 0; u < out.cols; ++u) {
+      if (outRow[u] == 0) continue;
+      const Eigen::Vector2d und =
+          colourLens ? colourCamera.undistortPixel(u, v) : Eigen::Vector2d(u, v);
+      const Eigen::Vector3d inDepth =
+          colourToDepth * colourCamera.backProject(und.x(), und.y(), outRow[u]);
+      if (!(inDepth.z() > 0)) continue;
+      const Eigen::Vector2d px = depthCamera.project(inDepth);
+      const Eigen::Vector2d raw = depthLens ? depthCamera.distortPixel(px.x(), px.y()) : px;
+      double z = 0;
+      if (!depthOnOneSurfaceAt(depthF, raw.x(), raw.y(), z)) continue;
+      const Eigen::Vector3d onSurface = inDepth * (z / inDepth.z());
+      outRow[u] = static_cast<float>((depthToColour * onSurface).z());
     }
   }
   if (depth.type() == CV_32FC1) return out;
