@@ -1,27 +1,11 @@
 #include <slamdunk/core/DepthRegistration.h>
+#include <slamdunk/core/RgbdFrame.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace slamdunk {
-namespace {
-
-// The depth at a sub-pixel position of `depth`, interpolated between its four pixels when they
-// agree within 2 % (one surface); false at a hole, an edge between surfaces or the border.
-bool depthOnOneSurfaceAt(const cv::Mat& depth, double x, double y, double& z) {
-  if (!(x >= 0 && y >= 0 && x < depth.cols - 1 && y < depth.rows - 1)) return false;
-  const int c = static_cast<int>(x), r = static_cast<int>(y);
-  const float a = depth.at<float>(r, c), b = depth.at<float>(r, c + 1);
-  const float d = depth.at<float>(r + 1, c), e = depth.at<float>(r + 1, c + 1);
-  const float lo = std::min({a, b, d, e}), hi = std::max({a, b, d, e});
-  if (!(lo > 0) || hi - lo > 0.02f * lo) return false;
-  const double fx = x - c, fy = y - r;
-  z = (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * d + fx * e);
-  return true;
-}
-
-}  // namespace
 
 cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& depthCamera,
                               const CameraIntrinsics& colourCamera,
@@ -88,8 +72,8 @@ cv::Mat registerDepthToColour(const cv::Mat& depth, const CameraIntrinsics& dept
       if (!(inDepth.z() > 0)) continue;
       const Eigen::Vector2d px = depthCamera.project(inDepth);
       const Eigen::Vector2d raw = depthLens ? depthCamera.distortPixel(px.x(), px.y()) : px;
-      double z = 0;
-      if (!depthOnOneSurfaceAt(depthF, raw.x(), raw.y(), z)) continue;
+      const double z = depthOnOneSurface(depthF, raw.x(), raw.y());
+      if (!(z > 0)) continue;
       const Eigen::Vector3d onSurface = inDepth * (z / inDepth.z());
       outRow[u] = static_cast<float>((depthToColour * onSurface).z());
     }

@@ -137,18 +137,22 @@ float nearestDepth(const cv::Mat& depth, double u, double v) {
 }
 }  // namespace
 
-float interpolatedDepth(const cv::Mat& depth, double u, double v) {
+double depthOnOneSurface(const cv::Mat& depth, double u, double v) {
+  if (!(std::abs(u) < 1e8 && std::abs(v) < 1e8)) return 0;  // also NaN
   const double fu = std::floor(u), fv = std::floor(v);
   const int c = static_cast<int>(fu), r = static_cast<int>(fv);
-  if (!(std::abs(u) < 1e8 && std::abs(v) < 1e8) || c < 0 || r < 0 || c + 1 >= depth.cols ||
-      r + 1 >= depth.rows)
-    return nearestDepth(depth, u, v);
+  if (c < 0 || r < 0 || c + 1 >= depth.cols || r + 1 >= depth.rows) return 0;
   const float z00 = depth.at<float>(r, c), z01 = depth.at<float>(r, c + 1);
   const float z10 = depth.at<float>(r + 1, c), z11 = depth.at<float>(r + 1, c + 1);
   const float lo = std::min({z00, z01, z10, z11}), hi = std::max({z00, z01, z10, z11});
-  if (!(lo > 0) || !std::isfinite(hi) || hi - lo > 0.02f * lo) return nearestDepth(depth, u, v);
+  if (!(lo > 0) || !std::isfinite(hi) || hi - lo > 0.02f * lo) return 0;
   const double a = u - fu, b = v - fv;
-  return static_cast<float>((1 - b) * ((1 - a) * z00 + a * z01) + b * ((1 - a) * z10 + a * z11));
+  return (1 - b) * ((1 - a) * z00 + a * z01) + b * ((1 - a) * z10 + a * z11);
+}
+
+float interpolatedDepth(const cv::Mat& depth, double u, double v) {
+  const double z = depthOnOneSurface(depth, u, v);
+  return z > 0 ? static_cast<float>(z) : nearestDepth(depth, u, v);
 }
 
 float RgbdFrame::depthAt(double u, double v) const { return nearestDepth(depth_, u, v); }

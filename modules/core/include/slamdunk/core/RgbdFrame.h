@@ -13,6 +13,11 @@ class CObservation3DRangeScan;
 
 namespace slamdunk {
 
+/// Depth (CV_32F, 0 = none) at a sub-pixel position of `depth`, interpolated between the four
+/// pixels around it when they all lie on one smooth surface (within 2 % of each other); 0
+/// otherwise (a hole, an edge between surfaces, the image's last row or column, outside it).
+double depthOnOneSurface(const cv::Mat& depth, double u, double v);
+
 /// Depth (CV_32F metres, 0 = none) at a sub-pixel position of `depth`: interpolated between
 /// the four pixels around it when they all lie on one smooth surface (within 2 % of each
 /// other), else the nearest pixel's; 0 outside the image.
