@@ -5,6 +5,7 @@
 #   scripts/benchmark.sh [RUNS]      (default 3; needs a built tree: scripts/build.sh)
 #   FEATURES="SURF64 ORB" SEQUENCES="7scenes" scripts/benchmark.sh   (a subset of the rows)
 #   NO_LIVE=1 scripts/benchmark.sh   (without the live-replay rows: they take 50 s per run)
+#   BUSY_LOOPS=2 scripts/benchmark.sh   (a shared machine: N busy loops run beside every row)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -42,6 +43,14 @@ prepare 7scenes 7scenes/seq-1000f 7scenes.ini || true
 prepare fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini || true
 prepare fr1_desk_9f tum/fr1_desk_9f tum-fr1.ini || true
 prepare fr3_cabinet_58kf tum/fr3_cabinet_58kf tum-fr3.ini || true
+
+# Other work on the machine: busy loops at the same priority, stopped when the script ends.
+busy=()
+trap '[ ${#busy[@]} -eq 0 ] || kill "${busy[@]}" 2>/dev/null' EXIT
+for ((i = 0; i < ${BUSY_LOOPS:-0}; i++)); do
+  (while :; do :; done) &
+  busy+=($!)
+done
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
@@ -122,7 +131,7 @@ live() {
     "$(m "${ate[@]}")"
 }
 
-echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'); runs per row: $runs (medians)"
+echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'); runs per row: $runs (medians)${BUSY_LOOPS:+; $BUSY_LOOPS busy loops beside}"
 echo
 echo "| sequence | features | tracked | keyframes | ATE RMSE m (local opt.) | ATE RMSE m (tracking only) | app FPS | tracking ms p50 / p95 / p99 / max | pool preparation ms median / max | local opt. ms median/max |"
 echo "|---|---|---|---|---|---|---|---|---|---|"

@@ -11,9 +11,13 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
+#include <sys/resource.h>
+
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 using namespace slamdunk;
 
@@ -114,6 +118,45 @@ TEST(RawlogReader, LoadExternalImagesDecodesTheColourImageToo) {
     while (auto obs = r.next()) scans.push_back(obs);
     return scans;
   });
+}
+
+namespace {
+/// Nice value of each thread of this process, by thread id (/proc/self/task/<tid>/stat).
+std::map<int, int> threadNiceValues() {
+  std::map<int, int> nice;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream stat(task.path() / "stat");
+    std::string line;
+    std::getline(stat, line);
+    // Fields after the command name (which may hold spaces): state is field 3, nice field 19.
+    std::istringstream fields(line.substr(line.rfind(')') + 2));
+    std::string field;
+    for (int i = 3; i <= 19 && fields >> field; ++i) {
+    }
+    nice[std::stoi(task.path().filename().string())] = std::stoi(field);
+  }
+  return nice;
+}
+}  // namespace
+
+// The consumer waits for the reading thread whenever it is behind: a thread at a lower priority
+// (it once read at nice 19) let other work on a busy machine hold the consumer back, up to a
+// fuzz input's 10 s timeout in CI.
+TEST(RawlogReader, PrefetchingThreadKeepsTheConsumersPriority) {
+  const std::string dir = test::scratchDir("RawlogReader_PrefetchPriority");
+  const auto before = threadNiceValues();
+  const int ours = getpriority(PRIO_PROCESS, 0);  // the process's main thread
+  PrefetchingRawlogReader r(writeRawlog(dir + "/a.rawlog", false), 1);
+  ASSERT_TRUE(r.next());  // the reading thread is running: it read the first scan
+  int readingThreads = 0;
+  for (const auto& [tid, nice] : threadNiceValues()) {
+    if (before.count(tid)) continue;
+    ++readingThreads;
+    EXPECT_EQ(nice, ours) << "thread " << tid;
+  }
+  EXPECT_GE(readingThreads, 1);
+  while (r.next()) {
+  }
 }
 
 TEST(RawlogReader, ReadsObservationOnlyFormatAndSkipsOthers) {

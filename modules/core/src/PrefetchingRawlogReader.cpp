@@ -2,17 +2,13 @@
 #include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
 
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <stdexcept>
 
 namespace slamdunk {
 
-PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth,
-                                                 int niceness)
-    : reader_(path), depth_(std::max<size_t>(depth, 1)), niceness_(niceness) {
+PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth)
+    : reader_(path), depth_(std::max<size_t>(depth, 1)) {
   thread_ = std::thread([this] { readLoop(); });
 }
 
@@ -26,10 +22,10 @@ PrefetchingRawlogReader::~PrefetchingRawlogReader() {
 }
 
 void PrefetchingRawlogReader::readLoop() {
-  // Offline at the lowest priority: decoding fills the gaps the tracking thread leaves (its
-  // single-threaded stages free a core) instead of slowing the frame being tracked. Linux
-  // nices threads.
-  if (niceness_ != 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), niceness_);
+  // At the process's priority, not lower: the consumer waits for this thread whenever it is
+  // behind, so at nice 19 other work on the machine held the consumer back (slamdunk-rawlog on
+  // 7-Scenes beside two busy loops: 13-25 frames/s against 47), and an idle machine gained
+  // nothing from it.
   for (;;) {
     {
       std::unique_lock lock(mutex_);

@@ -17,8 +17,7 @@ ReplayFrameSource::ReplayFrameSource(std::string rawlogPath, double speed, int l
 }
 
 std::unique_ptr<PrefetchingRawlogReader> ReplayFrameSource::openReader() const {
-  // At the process's priority: the frames must be ready when due, as a camera's would be.
-  return std::make_unique<PrefetchingRawlogReader>(path_, readAhead_, 0);
+  return std::make_unique<PrefetchingRawlogReader>(path_, readAhead_);
 }
 
 void ReplayFrameSource::open() {

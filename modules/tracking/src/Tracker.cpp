@@ -75,6 +75,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   r.pose = lastPose_;
   const double previousTimestamp = lastTimestamp_;
   lastTimestamp_ = frame.timestamp();
+  posesReadThisFrame_.clear();
 
   // Every frame counts for the pools' hand-over, tracked or not.
   auto t = Clock::now();
@@ -257,7 +258,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     poolDirty_ = true;
   } else {
     r.reference = reference;
-    r.poseInReference = graph_->pose(reference).inverse() * pose;
+    r.poseInReference = keyframePoseThisFrame(reference).inverse() * pose;
     if (r.relocalized || localMap_.shiftNeeded(pose)) {
       // Paper Sec. 4.1 "Shift": the window follows the camera without a new keyframe (and
       // jumps to wherever relocalization put it).
@@ -280,6 +281,12 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   framesLost_ = 0;
   r.timings.total = msSince(start);
   return r;
+}
+
+Pose Tracker::keyframePoseThisFrame(KeyframeId id) const {
+  const auto it = posesReadThisFrame_.find(id);
+  if (it != posesReadThisFrame_.end()) return it->second;
+  return posesReadThisFrame_.emplace(id, graph_->pose(id)).first->second;
 }
 
 bool Tracker::depthOnlyPossible() const {
@@ -676,7 +683,7 @@ bool Tracker::registerFrame(const FeaturePool& pool, const RgbdFrame& frame,
   const KeyframeId dominant =
       dominantKeyframe(inlierCountPerKeyframe(pool, matches, ransac.inliers));
   if (const auto atBuild = pool.poseAtBuild(dominant)) {
-    const Pose now = graph_->pose(dominant);
+    const Pose now = keyframePoseThisFrame(dominant);
     // Re-projected onto a rotation: keyframe poses feed later corrections, and the rounding
     // of each product would otherwise compound from keyframe to keyframe.
     pose = orthonormalized(now * atBuild->inverse() * pose);
@@ -729,7 +736,7 @@ std::optional<DepthAlignmentTerm> Tracker::depthTermAgainst(const RgbdFrame& fra
   DepthAlignmentTerm term;
   term.referenceDepth = referenceDepth_.depth;
   term.referenceIntrinsics = scaleIntrinsics(kf->intrinsics, kf->depthSmallStride);
-  term.worldFromReference = graph_->pose(reference);
+  term.worldFromReference = keyframePoseThisFrame(reference);
   term.weight = options_.depthAlignmentWeight;
   term.maxDistance = options_.depthAlignmentMaxDistance;
   term.centralNormals = options_.depthAlignmentCentralNormals;

@@ -15,10 +15,10 @@ namespace slamdunk {
 
 class PrefetchingRawlogReader {
  public:
-  /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead
-  /// on a thread of nice value `niceness`: 19 (the lowest priority) fills the gaps a busy
-  /// consumer leaves offline; a replay paced like a camera keeps the process's priority, 0.
-  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4, int niceness = 19);
+  /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead.
+  /// The reading thread keeps the process's CPU priority: the consumer waits for it whenever
+  /// it is behind, so a lower priority would hold the consumer back on a busy machine.
+  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4);
   ~PrefetchingRawlogReader();  ///< stops the reading thread
   PrefetchingRawlogReader(const PrefetchingRawlogReader&) = delete;
   PrefetchingRawlogReader& operator=(const PrefetchingRawlogReader&) = delete;
@@ -42,7 +42,6 @@ class PrefetchingRawlogReader {
 
   RawlogReader reader_;
   const size_t depth_;
-  const int niceness_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Item> ready_;

@@ -256,6 +256,11 @@ class Tracker {
     cv::Mat normals;  ///< fitted to depth on first use (depth alone)
   };
   mutable ReferenceDepth referenceDepth_;
+  /// Keyframe world poses as first read in the current frame. A frame's pose in the world and
+  /// its pose relative to its reference must be computed from the same reading: live, the
+  /// optimizer thread may move the keyframe between two reads of the graph.
+  mutable std::map<KeyframeId, Pose> posesReadThisFrame_;
+  Pose keyframePoseThisFrame(KeyframeId id) const;
   bool lost_ = false;
   bool poolDirty_ = false;
   /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
