@@ -24,7 +24,7 @@ PrefetchingRawlogReader::~PrefetchingRawlogReader() {
 void PrefetchingRawlogReader::readLoop() {
   // At the process's priority, not lower: the consumer waits for this thread whenever it is
   // behind, so at nice 19 other work on the machine held the consumer back (slamdunk-rawlog on
-  // 7-Scenes beside two busy loops: 13-25 frames/s against 47), and an idle machine gained
+  // 7-Scenes beside two busy loops: 9-25 frames/s against 47), and an idle machine gained
   // nothing from it.
   for (;;) {
     {
