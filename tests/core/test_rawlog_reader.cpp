@@ -17,7 +17,6 @@
 #include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 using namespace slamdunk;
 
@@ -121,19 +120,13 @@ TEST(RawlogReader, LoadExternalImagesDecodesTheColourImageToo) {
 }
 
 namespace {
-/// Nice value of each thread of this process, by thread id (/proc/self/task/<tid>/stat).
+/// Nice value of each thread of this process, by thread id (Linux: getpriority of a thread id
+/// gives that thread's own nice value).
 std::map<int, int> threadNiceValues() {
   std::map<int, int> nice;
   for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
-    std::ifstream stat(task.path() / "stat");
-    std::string line;
-    std::getline(stat, line);
-    // Fields after the command name (which may hold spaces): state is field 3, nice field 19.
-    std::istringstream fields(line.substr(line.rfind(')') + 2));
-    std::string field;
-    for (int i = 3; i <= 19 && fields >> field; ++i) {
-    }
-    nice[std::stoi(task.path().filename().string())] = std::stoi(field);
+    const int tid = std::stoi(task.path().filename().string());
+    nice[tid] = getpriority(PRIO_PROCESS, static_cast<id_t>(tid));
   }
   return nice;
 }
