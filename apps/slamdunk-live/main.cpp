@@ -167,7 +167,9 @@ int main(int argc, char** argv) {
     }
 
 #ifdef SLAMDUNK_WITH_VIEWER
-    // Shared with the tracking thread's callback, so it outlives the session in any case.
+    // Shared with the tracking thread's callback, so it outlives the session in any case. It
+    // ends (and, being the last window, stops MRPT's window thread) when its window is closed,
+    // or at the latest with `live` before main returns: never in the process's exit.
     std::shared_ptr<viewer::LiveViewer> gui;
     if (argGui.getValue()) {
       viewer::ViewerOptions view;
@@ -226,6 +228,9 @@ int main(int argc, char** argv) {
     fig.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     printLiveSummary(fig, argJson.getValue());
+    // Out now: stdout may be a pipe (fully buffered), and the summary must not depend on how
+    // the viewer's window and the process end.
+    std::fflush(stdout);
 #ifdef SLAMDUNK_WITH_VIEWER
     if (gui && argGuiWait.getValue() && gui->isOpen()) {
       gui->flush();

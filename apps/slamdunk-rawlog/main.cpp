@@ -358,6 +358,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "[slamdunk-rawlog] picture written to %s (and its .3Dscene)\n",
                    argRender.getValue().c_str());
     printRunSummary(fig, argJson.getValue());
+    // Out now: stdout may be a pipe (fully buffered), and the summary must not depend on how
+    // the viewer's window and the process end.
+    std::fflush(stdout);
 #ifdef SLAMDUNK_WITH_VIEWER
     if (gui && argGuiWait.getValue() && gui->isOpen()) {
       std::fprintf(stderr,

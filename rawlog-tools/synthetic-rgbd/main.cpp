@@ -45,6 +45,11 @@ int main(int argc, char** argv) {
         "number of frames spread over the whole path (0 = the trajectory's default; fewer frames "
         "= a faster camera)",
         false, 0, "N", cmd);
+    TCLAP::ValueArg<int> argFirstFrames(
+        "", "first-frames",
+        "keep only the first N frames of the path, at its own speed (0 = all; e.g. 600 = the "
+        "first 20 s of 'scan')",
+        false, 0, "N", cmd);
     TCLAP::ValueArg<unsigned> argSeed("s", "seed", "texture (and depth noise) seed", false, 1, "S",
                                       cmd);
     TCLAP::ValueArg<std::string> argGt(
@@ -106,6 +111,7 @@ int main(int argc, char** argv) {
     slamdunk::SyntheticOptions opts;
     opts.trajectory = argTrajectory.getValue();
     opts.frames = argFrames.getValue();
+    opts.firstFrames = argFirstFrames.getValue();
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
     opts.kinectDepth = argKinect.getValue();

@@ -83,6 +83,27 @@ SlamRun expectOptimizationBeatsTrackingAlone(const std::string& rawlog, const Sl
   return track;
 }
 
+/// One column of slamdunk-rawlog's --frame-log CSV, by its header name.
+std::vector<std::string> frameLogColumn(const std::string& path, const std::string& name) {
+  auto split = [](const std::string& line) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    return fields;
+  };
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  const auto header = split(line);
+  const size_t k = std::find(header.begin(), header.end(), name) - header.begin();
+  std::vector<std::string> column;
+  while (std::getline(in, line)) {
+    const auto fields = split(line);
+    column.push_back(k < fields.size() ? fields[k] : "");
+  }
+  return column;
+}
+
 using test::readFile;
 
 }  // namespace
@@ -223,17 +244,58 @@ TEST(SlamdunkRawlog, TumFr1DeskNineFrames) {
   EXPECT_LE(r.value("ate_rmse_m"), 0.01) << r.result.output;
 }
 
-TEST(SlamdunkRawlog, TumFr3CabinetWideBaselines) {
+// A textureless box on a plain floor, 0.67 s between frames: the feature tracker registers no
+// frame after the first (no RANSAC inliers among the matches, or fewer than 20 features with
+// depth), a known failure. What it does must be clear: each later frame lost, with its reason,
+// and no pose it does not have (measured: 1 of 58 tracked, the first, at the origin; 57 lost;
+// 1 keyframe; no ATE).
+TEST(SlamdunkRawlog, TumFr3CabinetWideBaselinesAreAKnownFailure) {
   REQUIRE_RAWLOG(rawlog, "fr3_cabinet_58kf");
-  const SlamRun r = runSlam(rawlog, test::scratchDir("Slam_Cabinet"));
+  const std::string dir = test::scratchDir("Slam_Cabinet");
+  const std::string frameLog = dir + "/frames.csv";
+  const SlamRun r = runSlam(rawlog, dir, "--frame-log " + q(frameLog));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
-  std::cout << "fr3_cabinet_58kf: tracked " << r.value("tracked") << " of 58, ATE rmse "
-            << r.value("ate_rmse_m") << " m\n";
-  // A textureless box on a plain floor, 0.67 s between frames: a feature tracker registers few
-  // frames; what it does register must not be garbage.
+  std::cout << "fr3_cabinet_58kf: tracked " << r.value("tracked") << " of " << r.value("frames")
+            << ", lost " << r.value("lost") << "\n";
   EXPECT_EQ(r.value("frames"), 58) << r.result.output;
-  EXPECT_GE(r.value("tracked"), 1) << r.result.output;
-  if (r.value("tracked") >= 3) EXPECT_LE(r.value("ate_rmse_m"), 0.05) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), 1) << r.result.output;
+  EXPECT_EQ(r.value("lost"), 57) << r.result.output;
+  EXPECT_EQ(r.value("keyframes"), 1) << r.result.output;
+  EXPECT_TRUE(std::isnan(r.value("ate_rmse_m"))) << "an ATE of one pose: " << r.result.output;
+
+  // The first frame starts the map, every other one is reported lost, with the reason.
+  const auto status = frameLogColumn(frameLog, "status");
+  const auto reason = frameLogColumn(frameLog, "lost_reason");
+  ASSERT_EQ(status.size(), 58u);
+  ASSERT_EQ(reason.size(), 58u);
+  EXPECT_EQ(status[0], "initialized");
+  for (size_t i = 1; i < status.size(); ++i) {
+    EXPECT_EQ(status[i], "lost") << "frame " << i;
+    EXPECT_FALSE(reason[i].empty()) << "frame " << i << " lost without a reason";
+  }
+
+  // No false pose: only the tracked frames are in the trajectory, each where the ground truth
+  // puts it (in the first frame's world, the map's), within 5 cm.
+  const Trajectory t = readTumTrajectory(r.trajectory);
+  EXPECT_EQ(t.size(), r.value("tracked")) << r.result.output;
+  ASSERT_FALSE(t.empty());
+  EXPECT_NEAR(t.front().timestamp, std::stod(frameLogColumn(frameLog, "timestamp").front()), 1e-6)
+      << "the first pose is not the first frame's";
+  const Trajectory gt = readTumTrajectory(test::groundTruthOf(rawlog));
+  ASSERT_FALSE(gt.empty());
+  const auto truthAt = [&](double stamp) {
+    return std::min_element(gt.begin(), gt.end(),
+                            [&](const auto& a, const auto& b) {
+                              return std::abs(a.timestamp - stamp) < std::abs(b.timestamp - stamp);
+                            })
+        ->pose;
+  };
+  const Pose origin = truthAt(t.front().timestamp).inverse();
+  for (const auto& p : t) {
+    const Pose truth = origin * truthAt(p.timestamp);
+    EXPECT_LT((truth.translation() - p.pose.translation()).norm(), 0.05) << "at " << p.timestamp;
+    EXPECT_LT(rotationDistance(truth, p.pose), 0.05) << "at " << p.timestamp;
+  }
 }
 
 TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectories) {
@@ -295,27 +357,6 @@ TEST(SlamdunkRawlogBadInput, ZeroDepthAndWrongSizeFramesAreLostABlackFrameIsTrac
 }
 
 namespace {
-/// One column of slamdunk-rawlog's --frame-log CSV, by its header name.
-std::vector<std::string> frameLogColumn(const std::string& path, const std::string& name) {
-  auto split = [](const std::string& line) {
-    std::vector<std::string> fields;
-    std::stringstream ss(line);
-    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
-    return fields;
-  };
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  const auto header = split(line);
-  const size_t k = std::find(header.begin(), header.end(), name) - header.begin();
-  std::vector<std::string> column;
-  while (std::getline(in, line)) {
-    const auto fields = split(line);
-    column.push_back(k < fields.size() ? fields[k] : "");
-  }
-  return column;
-}
-
 /// The rawlog with the colour of frames [first, last) black: the lights go out, the depth
 /// sensor (infrared) keeps working.
 std::string withLightsOff(const std::string& src, const std::string& dir, size_t frames,
@@ -407,8 +448,8 @@ std::string handHeldTestName(const ::testing::TestParamInfo<HandHeldParam>& info
 // The camera's timing given as its calibration (the readout is learned on from there),
 // measured with each frame's velocity estimated: rotations 1.2 / 3.5 mm ATE, 2.5 / 8.9 mm per
 // frame; shake 1.8 / 3.7 mm ATE, 6.2 / 10.2 mm per frame; the 2.5-minute scan 2.4 / 7.6 mm ATE,
-// 3.4 / 7.7 mm per frame. With the motion between frames extrapolated instead, the shake's
-// first pair erred by 2.0 / 2.2 cm.
+// 3.4 / 7.7 mm per frame (its first 20 s, CI's: 1.5 / 3.2 mm ATE, 3.3 / 3.9 mm). With the motion
+// between frames extrapolated instead, the shake's first pair erred by 2.0 / 2.2 cm.
 class HandHeld : public ::testing::TestWithParam<HandHeldParam> {};
 
 TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
@@ -426,6 +467,8 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
   const double readout = r.value("camera_rolling_shutter_ms");
   if (trajectory == "shake")
     EXPECT_NEAR(readout, 18, 4) << r.result.output;
+  else if (trajectory == "scan20s")  // 22.1 / 23.7 ms measured: 20 s is not yet a lap
+    EXPECT_NEAR(readout, 22, 4) << r.result.output;
   else
     EXPECT_NEAR(readout, 20, 2) << r.result.output;
 }
@@ -465,21 +508,35 @@ INSTANTIATE_TEST_SUITE_P(Synthetic, HandHeldLearningTiming,
 // wide as a real Kinect's jitter needs (the velocity followed the errors of the map, keyframes
 // kept them, and the readout learned against the map followed), and the ATE was 7.3 mm instead of
 // 3.2. The prior's width now follows the motion model's measured error.
-TEST(SlamdunkRawlog, HandHeldScanLearnsItsCamerasReadout) {
-  REQUIRE_RAWLOG(rawlog, "handheld_scan");
-  const std::string dir = test::scratchDir("Slam_ScanLearnsReadout");
+// The whole 2.5-minute scan is scripts/test-long.sh's (7 GB of test data); CI runs its first
+// 20 s (handheld_scan20s).
+void expectScanLearnsItsCamerasReadout(const std::string& name, double readoutMs,
+                                       double readoutTolerance, double maxAte) {
+  REQUIRE_RAWLOG(rawlog, name);
+  const std::string dir = test::scratchDir("Slam_ScanLearnsReadout_" + name);
   const SlamRun r = runSlam(rawlog, dir, configWith(dir, defaultIniWithDepthOffset()));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
   const double readout = r.value("camera_rolling_shutter_ms");
-  std::printf("handheld_scan, readout learned from 0: %.2f ms, ATE %.4f m\n", readout,
+  std::printf("%s, readout learned from 0: %.2f ms, ATE %.4f m\n", name.c_str(), readout,
               r.value("ate_rmse_m"));
-  EXPECT_NEAR(readout, 20, 2) << r.result.output;
-  EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
+  EXPECT_NEAR(readout, readoutMs, readoutTolerance) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), maxAte) << r.result.output;
+}
+
+TEST(SlamdunkRawlog, HandHeldScanLearnsItsCamerasReadout) {
+  expectScanLearnsItsCamerasReadout("handheld_scan", 20, 2, 0.005);
+}
+
+// In its first 20 s the readout learned from 0 is on its way to the camera's 20 ms: 14.0 ms
+// measured, ATE 1.8 mm.
+TEST(SlamdunkRawlog, HandHeldScan20sLearnsItsCamerasReadout) {
+  expectScanLearnsItsCamerasReadout("handheld_scan20s", 15, 5, 0.004);
 }
 
 INSTANTIATE_TEST_SUITE_P(Synthetic, HandHeld,
-                         ::testing::Combine(::testing::Values("rotations", "shake", "scan"),
+                         ::testing::Combine(::testing::Values("rotations", "shake", "scan20s",
+                                                              "scan"),
                                             ::testing::Bool()),
                          handHeldTestName);
 
@@ -580,22 +637,36 @@ TEST(SlamdunkRawlogBadInput, TruncatedRawlogKeepsTheFramesBeforeTheDamage) {
 
 // ------------------------------------------------------------------ threads
 
-// Tracking and local optimization in two threads (live use): the same accuracy bounds hold.
+// Tracking and local optimization in two threads (live use): as accurate as in one.
 // Run once under ThreadSanitizer too (cmake -DSLAMDUNK_TSAN=ON).
-TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBounds) {
+namespace {
+std::string optimizerThread(const std::string& dir) {
+  return configWith(dir, "[slam]\noptimizer_thread = true\n");
+}
+}  // namespace
+
+// Which frames are tracked before and after each optimization depends on the threads' timing:
+// measured (7 runs, the machine busy) ATE 1.0-1.6 mm, 29 optimizations, none lost.
+TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBoundsOnTheSyntheticLoop) {
   REQUIRE_RAWLOG(loop, "synthetic_loop");
   const std::string dir = test::scratchDir("SlamThreads");
-  const std::string threaded = configWith(dir, "[slam]\noptimizer_thread = true\n");
-  const SlamRun r = runSlam(loop, dir, threaded);
+  const SlamRun r = runSlam(loop, dir, optimizerThread(dir));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  std::printf("synthetic loop, optimizer thread: ATE %.4f m, %g optimizations, %g lost\n",
+              r.value("ate_rmse_m"), r.value("optimizations"), r.value("lost"));
   EXPECT_EQ(r.value("lost"), 0) << r.result.output;
-  EXPECT_LT(r.value("ate_rmse_m"), 0.005) << r.result.output;
-  EXPECT_GE(r.value("optimizations"), 1) << r.result.output;
+  EXPECT_LT(r.value("ate_rmse_m"), 0.003) << r.result.output;
+  EXPECT_GE(r.value("optimizations"), 15) << r.result.output;
+}
 
-  const std::string real = test::preparedRawlog("7scenes");
-  if (real.empty()) return;
-  const SlamRun s = runSlam(real, test::scratchDir("SlamThreads7"), threaded);
+// Measured 0.0345-0.0375 m over 4 runs (the offline default: 0.0341 m).
+TEST(SlamdunkRawlogThreads, OptimizerThreadKeepsTheAccuracyBoundsOnSevenScenes) {
+  REQUIRE_RAWLOG(real, "7scenes");
+  const std::string dir = test::scratchDir("SlamThreads7");
+  const SlamRun s = runSlam(real, dir, optimizerThread(dir));
   ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
+  std::printf("7-Scenes, optimizer thread: %g of 1000 tracked, ATE %.4f m\n", s.value("tracked"),
+              s.value("ate_rmse_m"));
   EXPECT_EQ(s.value("tracked"), 1000) << s.result.output;
   EXPECT_LE(s.value("ate_rmse_m"), 0.045) << s.result.output;
 }
@@ -672,7 +743,9 @@ TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
   EXPECT_GE(f.firstTracked, 0);
   EXPECT_LT(f.firstTracked, 10);
   EXPECT_EQ(f.tracked, 500);
-  EXPECT_LE(f.rmseInMap, 0.15);  // includes the first half's own mapping error
+  // In the map's frame, without alignment: includes the first half's own mapping error
+  // (measured 0.0550 m, max 0.0875 m, in 2 runs; with the loaded map shifted 10 cm, 0.131 m).
+  EXPECT_LE(f.rmseInMap, 0.08);
 }
 
 TEST(SlamdunkRawlogMaps, WritesMapDenseOutputsPictureAndSimpleMap) {

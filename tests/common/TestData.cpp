@@ -20,6 +20,11 @@ std::string dataDir() {
   return SLAMDUNK_DEFAULT_DATA_DIR;
 }
 
+bool prerequisitesRequired() {
+  const char* env = std::getenv("SLAMDUNK_REQUIRE_DATA");
+  return env && std::string(env) == "1";
+}
+
 std::string dataPath(const std::string& relative) {
   const fs::path p = fs::path(dataDir()) / relative;
   return fs::exists(p) ? p.string() : std::string();

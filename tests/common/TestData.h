@@ -41,18 +41,34 @@ double jsonValue(const std::string& json, const std::string& key);
 /// absent.
 std::vector<double> jsonArray(const std::string& json, const std::string& key);
 
+/// True when SLAMDUNK_REQUIRE_DATA=1 (as in CI): a test whose prerequisites (the shared data,
+/// a tool, an X server) are missing fails instead of skipping, so that a clone that cannot see
+/// them is never green.
+bool prerequisitesRequired();
+
 }  // namespace slamdunk::test
 
-/// Skips the current test when a prepared rawlog is missing (its source data is absent).
-#define REQUIRE_RAWLOG(var, name)                                                           \
-  const std::string var = ::slamdunk::test::preparedRawlog(name);                           \
-  if (var.empty())                                                                          \
-  GTEST_SKIP() << "rawlog '" << name << "' was not prepared (its source data is not under " \
-               << ::slamdunk::test::dataDir() << ")"
+/// Skips the current test with `message` (a `<<` chain), or fails it with the same message
+/// when prerequisitesRequired().
+#define SLAMDUNK_SKIP(message)                                                                \
+  do {                                                                                        \
+    if (::slamdunk::test::prerequisitesRequired())                                            \
+      FAIL() << message << " [SLAMDUNK_REQUIRE_DATA=1: a missing prerequisite is a failure]"; \
+    else                                                                                      \
+      GTEST_SKIP() << message;                                                                \
+  } while (0)
 
-/// Skips the current test with a clear message when a dataset folder/file is missing.
-#define SLAMDUNK_REQUIRE_DATA(var, relative)                                                       \
-  const std::string var = ::slamdunk::test::dataPath(relative);                                    \
-  if (var.empty())                                                                                 \
-  GTEST_SKIP() << "test data '" << relative << "' not found under " << ::slamdunk::test::dataDir() \
-               << " (set SLAMDUNK_DATA_DIR to the shared data folder)"
+/// Skips (or fails, see SLAMDUNK_SKIP) the current test when a prepared rawlog is missing
+/// (its source data is absent).
+#define REQUIRE_RAWLOG(var, name)                                                         \
+  const std::string var = ::slamdunk::test::preparedRawlog(name);                         \
+  if (var.empty())                                                                        \
+  SLAMDUNK_SKIP("rawlog '" << name << "' was not prepared (its source data is not under " \
+                           << ::slamdunk::test::dataDir() << ")")
+
+/// Skips (or fails, see SLAMDUNK_SKIP) the current test when a dataset folder/file is missing.
+#define SLAMDUNK_REQUIRE_DATA(var, relative)                                                     \
+  const std::string var = ::slamdunk::test::dataPath(relative);                                  \
+  if (var.empty())                                                                               \
+  SLAMDUNK_SKIP("test data '" << relative << "' not found under " << ::slamdunk::test::dataDir() \
+                              << " (set SLAMDUNK_DATA_DIR to the shared data folder)")

@@ -99,8 +99,8 @@ class SevenScenesDense : public ::testing::Test {
 
   void SetUp() override {
     if (!slam_)
-      GTEST_SKIP() << "rawlog '7scenes' was not prepared (its source data is not under "
-                   << test::dataDir() << ")";
+      SLAMDUNK_SKIP("rawlog '7scenes' was not prepared (its source data is not under "
+                    << test::dataDir() << ")");
   }
 
   static inline std::string rawlog_, dir_;

@@ -40,7 +40,7 @@ class EvaluateTrajectoryTool : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!std::ifstream(toolPath("evaluate-trajectory")).good())
-      GTEST_SKIP() << "tool not built: " << toolPath("evaluate-trajectory");
+      SLAMDUNK_SKIP("tool not built: " << toolPath("evaluate-trajectory"));
     dir = scratchDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
     gtPath = dir + "/gt.txt";
     estPath = dir + "/est.txt";

@@ -156,7 +156,7 @@ TEST(HostileOutputs, ReadOnlyOutputFolderIsNamedAtOnceAndKeepsItsFiles) {
   fs::create_directories(dir);
   const auto rawlogBefore = writeEarlierFiles(dir, kRawlogOutputs);
   if (const std::string why = makeReadOnly(dir); !why.empty())
-    GTEST_SKIP() << "cannot make a read-only folder here (" << why << ")";
+    SLAMDUNK_SKIP("cannot make a read-only folder here (" << why << ")");
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto offline = test::runCommand(rawlogCommand(rawlog, dir));
@@ -183,8 +183,8 @@ TEST(HostileOutputs, OfflineFullDiskReplacesNothing) {
   // 11 earlier files take 44 KiB (a page each); 64 KiB more: room for the trajectories and the
   // frame log, not for the map (about 150 KB here) nor the dense cloud (about 1 MB).
   if (const std::string why = mountSmallDisk(dir, 44 + 64); !why.empty())
-    GTEST_SKIP() << "this machine does not allow mounting a small tmpfs (" << why
-                 << "); the file size limit test covers the same code";
+    SLAMDUNK_SKIP("this machine does not allow mounting a small tmpfs ("
+                  << why << "); the file size limit test covers the same code");
   const auto before = writeEarlierFiles(dir, kRawlogOutputs);
   const auto r = test::runCommand(rawlogCommand(rawlog, dir));
   EXPECT_EQ(r.exitCode, 1) << r.output;
@@ -273,8 +273,8 @@ TEST(HostileOutputs, LiveFullDiskWritesWhatFitsAndKeepsTheRest) {
   // 5 earlier files (20 KiB) and 64 KiB: the recording (about 1 MB a frame) fills the disk
   // early in the session; it must give that space back for the trajectory.
   if (const std::string why = mountSmallDisk(dir, 20 + 64); !why.empty())
-    GTEST_SKIP() << "this machine does not allow mounting a small tmpfs (" << why
-                 << "); the file size limit test covers the same code";
+    SLAMDUNK_SKIP("this machine does not allow mounting a small tmpfs ("
+                  << why << "); the file size limit test covers the same code");
   const auto before = writeEarlierFiles(dir, kLiveOutputs);
   const auto r = test::runCommand(liveCommand(rawlog, dir, base));
   expectLiveWroteWhatFitted(r, dir, before, "KiB free in '" + dir + "'");

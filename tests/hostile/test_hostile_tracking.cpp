@@ -60,7 +60,7 @@ TEST(HostileTracking, CameraStandingStillForThreeMinutesAddsNothing) {
   try {
     sequence = std::make_unique<SyntheticSequence>(o);
   } catch (const std::runtime_error& e) {
-    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+    SLAMDUNK_SKIP("no offscreen OpenGL context here: " << e.what());
   }
   sequence->renderImages(0, colour, depth);  // exact depth: the noise is added per frame below
   const CameraIntrinsics K = o.intrinsics();

@@ -118,7 +118,7 @@ TEST(LiveSlam, PushedFramesAreTrackedAndEveryPoseIsPublished) {
                                                     result.trajectory);
   std::printf("pushed 120 frames: ATE %.4f m over %zu poses, %zu keyframes\n", ev.ate.stats.rmse,
               ev.pairs, result.stats.keyframes);
-  EXPECT_LT(ev.ate.stats.rmse, 0.02);
+  EXPECT_LT(ev.ate.stats.rmse, 0.002);  // measured 0.9-1.0 mm (4 runs)
 }
 
 TEST(LiveSlam, ApplicationOwnedSensorIsPolledByTheGrabber) {
@@ -142,10 +142,21 @@ TEST(LiveSlam, ApplicationOwnedSensorIsPolledByTheGrabber) {
   ASSERT_TRUE(live.waitUntilOpen(10));
   ASSERT_TRUE(waitFor([&] { return live.finished(); }));
   const LiveResult result = live.finish();
+  std::printf(
+      "application's sensor polled at 60 Hz: %zu received, %zu processed, %zu dropped, "
+      "%zu tracked\n",
+      result.counters.received, result.counters.processed, result.counters.dropped,
+      result.counters.tracked);
   EXPECT_EQ(result.counters.received, 40u);
   EXPECT_EQ(result.counters.processed + result.counters.dropped, 40u);
-  // Polled at 60 Hz: a slow machine (or a sanitizer build) drops frames, the others are tracked.
+  // Polled at 60 Hz, faster than tracking: frames are dropped, the others tracked. Measured
+  // (4 runs, the machine busy): 30-38 of the 40 processed, every one tracked. Under the
+  // sanitizers tracking runs at 7-9 frames/s: a few frames of the 0.7 s.
+#ifdef SLAMDUNK_SANITIZED
   EXPECT_GE(result.counters.processed, 5u);
+#else
+  EXPECT_GE(result.counters.processed, 20u);
+#endif
   EXPECT_EQ(result.trajectory.size(), result.counters.tracked);
   EXPECT_GE(result.counters.tracked + 1, result.counters.processed);
   EXPECT_TRUE(result.sourceError.empty()) << result.sourceError;

@@ -9,10 +9,13 @@
 #include <slamdunk/maps/CKeyframeGraphMap.h>
 #endif
 
+#include "ChildProcess.h"
 #include "EditedRawlog.h"
 #include "TestData.h"
 
 #include <gtest/gtest.h>
+
+#include <signal.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,8 +23,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
@@ -135,6 +140,19 @@ TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
   const Trajectory traj = readTumTrajectory(live.trajectory);
   EXPECT_GT(traj.size(), 100u);
   EXPECT_EQ(traj.size(), live.value("tracked"));
+#ifdef SLAMDUNK_SANITIZED
+  // Sanitized code tracks at 7-9 frames/s: most of the 60 frames/s are dropped (see the 1x
+  // test); the Release suite checks drops and accuracy.
+  std::printf("sanitizer build: drops and ATE not checked\n");
+#else
+  // 60 frames/s asks for about all this machine's tracker gives: measured 47, 84 and 106
+  // dropped on the idle machine (3 runs: up to 11 %), 462-544 beside two busy loops on its two
+  // cores (the test runs alone in CI, RUN_SERIAL). None lost in any run. ATE 0.0338-0.0375 m
+  // idle, 0.0387-0.0419 m beside the busy loops (the offline run: 0.0341 m).
+  EXPECT_LE(live.value("frames_dropped"), 250) << "more than 25 % dropped:\n" << live.result.output;
+  EXPECT_EQ(live.value("lost"), 0) << live.result.output;
+  EXPECT_LE(live.value("ate_rmse_m"), 0.05) << live.result.output;
+#endif
 }
 
 // Soak tests replay a recording again and again ([REPLAY] loops): each lap's timestamps follow
@@ -179,34 +197,66 @@ TEST(SlamdunkLive, ReplayLoopsKeepTheTimestampsIncreasing) {
 // ------------------------------------------------------------------ interrupt
 
 namespace {
-/// Starts the app on a 1x replay, sends `signal` `seconds` after the app reports its source (so
-/// a slow start on a loaded machine cannot make the signal arrive before the app is running),
-/// returns the app's exit code.
-LiveRun interruptedRun(const std::string& rawlog, const std::string& dir, const std::string& signal,
-                       int seconds) {
+/// Polls the checkpoint folder of a running app until its checkpoint holds at least `tracked`
+/// tracked frames in at least `sequence` checkpoints; nullopt if the app exits first or 120 s
+/// pass (a deadline far beyond the few seconds of replay it takes): the test fails then.
+/// `seen`, if given, gets each checkpoint seen, in order.
+std::optional<live::CheckpointInfo> waitForCheckpoint(
+    test::ChildProcess& app, const std::string& folder, size_t tracked, size_t sequence = 1,
+    std::vector<live::CheckpointInfo>* seen = nullptr) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (app.alive() && std::chrono::steady_clock::now() < end) {
+    try {
+      const live::CheckpointInfo info = live::CheckpointInfo::read(folder);
+      if (seen && (seen->empty() || seen->back().sequence != info.sequence)) seen->push_back(info);
+      if (info.framesTracked >= tracked && info.sequence >= sequence) return info;
+    } catch (const std::runtime_error&) {
+      // none yet
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return std::nullopt;
+}
+
+/// Wall-clock time, seconds since 1970 (as checkpoint.txt's unix_time).
+double unixNow() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// The frames a run interrupted midway has tracked at least: ~3.3 s at 30 Hz (the sanitizers'
+// tracking runs at 7-9 frames/s). Once a checkpoint holds more, the run is midway.
+#ifdef SLAMDUNK_SANITIZED
+constexpr size_t kFewestFrames = 20;
+#else
+constexpr size_t kFewestFrames = 100;
+#endif
+
+/// Starts the app on a 1x replay with a checkpoint every second, sends `signal` once a
+/// checkpoint holds kFewestFrames tracked frames (proof that the run is midway, however slow
+/// the machine), and waits for the app's exit (up to 120 s); r.seconds: from the signal to the
+/// exit. Fails the test when the run never gets there.
+LiveRun interruptedRun(const std::string& rawlog, const std::string& dir, int signal) {
   LiveRun r;
   r.trajectory = dir + "/trajectory.txt";
   r.map = dir + "/run.map";
-  const std::string log = dir + "/stderr.txt";
-  const std::string app = test::toolPath("slamdunk-live") + " --config " +
-                          q(replayIni(dir, rawlog)) + " --trajectory " + q(r.trajectory) +
-                          " --map " + q(r.map) + " --json 2> " + q(log);
-  // A script, not bash -c '...': the command line itself holds quoted paths.
-  const std::string script = writeFile(
-      dir + "/interrupt.sh",
-      app + " &\npid=$!\n" + "for i in $(seq 600); do grep -qs 'source:' " + q(log) +
-          " && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done\n" + "sleep " +
-          std::to_string(seconds) + "\nsignalled=$EPOCHREALTIME\nkill -" + signal +
-          " $pid\nwait $pid\necho exit_code=$?\necho stop_seconds=$(( (${EPOCHREALTIME/./} - "
-          "${signalled/./}) / 1000 ))e-3\ncat " +
-          q(log) + "\n");
-  r.result = test::runCommand("bash " + q(script));
   r.seconds = std::numeric_limits<double>::infinity();
-  std::smatch m;
-  if (std::regex_search(r.result.output, m, std::regex("exit_code=([0-9]+)")))
-    r.result.exitCode = std::stoi(m[1]);
-  if (std::regex_search(r.result.output, m, std::regex("stop_seconds=([0-9e.-]+)")))
-    r.seconds = std::stod(m[1]);
+  const std::string log = dir + "/output.txt";
+  test::ChildProcess app({test::toolPath("slamdunk-live"), "--config",
+                          replayIni(dir, rawlog, "checkpoint_every_seconds = 1"), "--trajectory",
+                          r.trajectory, "--map", r.map, "--json"},
+                         {}, log);
+  EXPECT_TRUE(app.started());
+  const auto midway = waitForCheckpoint(app, dir + "/trajectory_checkpoint", kFewestFrames);
+  EXPECT_TRUE(midway) << "no checkpoint with " << kFewestFrames
+                      << " tracked frames before the app ended or 120 s passed; output:\n"
+                      << readText(log);
+  if (midway) {
+    const auto signalled = std::chrono::steady_clock::now();
+    kill(app.pid(), signal);
+    r.result.exitCode = app.wait(120);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  }
+  r.result.output = readText(log);
   return r;
 }
 
@@ -215,15 +265,11 @@ void expectCompleteOutputs(const LiveRun& r) {
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   EXPECT_NE(r.result.output.find("\"interrupted\": true"), std::string::npos) << r.result.output;
   const Trajectory traj = readTumTrajectory(r.trajectory);
-  // ~5 s at 30 Hz minus start-up: well over 50 frames, well under the 1000 of the recording.
-  // Under the sanitizers tracking runs at 7-9 frames/s (about 40 frames in those 5 s): the
-  // point stays that the run was stopped midway with what it had processed all written.
-#ifdef SLAMDUNK_SANITIZED
-  const size_t fewestFrames = 10;
-#else
-  const size_t fewestFrames = 50;
-#endif
-  EXPECT_GT(traj.size(), fewestFrames) << r.result.output;
+  std::printf("interrupted: %zu frames tracked, %g keyframes, stopped %.2f s after the signal\n",
+              traj.size(), r.value("keyframes"), r.seconds);
+  // Signalled once a checkpoint held kFewestFrames: at least those, and well under the 1000
+  // of the recording (checkpoints come every second).
+  EXPECT_GE(traj.size(), kFewestFrames) << r.result.output;
   EXPECT_LT(traj.size(), 300u) << r.result.output;
   EXPECT_EQ(traj.size(), r.value("tracked"));
   const fs::path kf = fs::path(r.trajectory).parent_path() / "trajectory_keyframes.txt";
@@ -239,12 +285,12 @@ void expectCompleteOutputs(const LiveRun& r) {
 
 TEST(SlamdunkLive, SigintMidwayWritesEveryOutput) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigint"), "INT", 5));
+  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigint"), SIGINT));
 }
 
 TEST(SlamdunkLive, SigtermMidwayWritesEveryOutput) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigterm"), "TERM", 5));
+  expectCompleteOutputs(interruptedRun(rawlog, test::scratchDir("Live_Sigterm"), SIGTERM));
 }
 
 // ------------------------------------------------------------------ crash safety
@@ -275,29 +321,37 @@ TEST(SlamdunkLive, SigkillMidwayLosesAtMostOneCheckpointInterval) {
   const double interval = 2.0;  // seconds between checkpoints (time only, for a sharp bound)
   const std::string ini =
       replayIni(dir, rawlog, "checkpoint_every_seconds = 2\ncheckpoint_every_keyframes = 0\n");
-  const std::string log = dir + "/stderr.txt";
-  const std::string app = test::toolPath("slamdunk-live") + " --config " + q(ini) +
-                          " --trajectory " + q(dir + "/run.txt") + " 2> " + q(log);
-  // SIGKILL about 9.3 s into the replay (280 frames of 1000): no handler runs, nothing is
-  // flushed; only what the checkpoints put on disk survives. The time of the kill is taken
-  // just before it.
-  const std::string script =
-      writeFile(dir + "/kill.sh",
-                app + " &\npid=$!\n" + "for i in $(seq 600); do grep -qs 'source:' " + q(log) +
-                    " && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done\n" +
-                    "sleep 9.3\necho kill_time=$EPOCHREALTIME\nkill -KILL $pid\nwait $pid\n"
-                    "echo exit_code=$?\n");
-  const auto run = test::runCommand("bash " + q(script));
+  const std::string log = dir + "/output.txt";
+  const std::string folder = dir + "/run_checkpoint";
+  test::ChildProcess app(
+      {test::toolPath("slamdunk-live"), "--config", ini, "--trajectory", dir + "/run.txt"}, {},
+      log);
+  ASSERT_TRUE(app.started());
+#ifdef SLAMDUNK_SANITIZED
+  const size_t fewestFrames = 30;  // tracking runs at 7-9 frames/s under the sanitizers
+#else
+  const size_t fewestFrames = 100;  // about 3.3 s of 30 Hz frames
+#endif
+  // SIGKILL 1.3 s after the 4th checkpoint (holding at least fewestFrames tracked frames) was
+  // taken: between two checkpoints, as 9.3 s into the replay was on an idle machine, however
+  // slow this one is. No handler runs, nothing is flushed; only what the checkpoints put on
+  // disk survives. The time of the kill is taken just before it.
+  std::vector<live::CheckpointInfo> seen;
+  const auto fourth = waitForCheckpoint(app, folder, fewestFrames, 4, &seen);
+  ASSERT_TRUE(fourth) << "no 4th checkpoint with " << fewestFrames
+                      << " tracked frames before the app ended or 120 s passed; output:\n"
+                      << readText(log);
+  const double killAt = fourth->unixTime + 1.3;
+  if (unixNow() < killAt)
+    std::this_thread::sleep_for(std::chrono::duration<double>(killAt - unixNow()));
+  const double killTime = unixNow();
+  kill(app.pid(), SIGKILL);
+  const int exitCode = app.wait(120);
   const std::string stderrText = readText(log);
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(run.output, m, std::regex("exit_code=([0-9]+)"))) << run.output;
-  EXPECT_EQ(std::stoi(m[1]), 128 + 9) << "the app was not killed:\n" << stderrText;
-  ASSERT_TRUE(std::regex_search(run.output, m, std::regex("kill_time=([0-9.]+)"))) << run.output;
-  const double killTime = std::stod(m[1]);
+  EXPECT_EQ(exitCode, 128 + 9) << "the app was not killed:\n" << stderrText;
   EXPECT_FALSE(fs::exists(dir + "/run.txt")) << "the final outputs cannot exist after SIGKILL";
 
   // The checkpoint loads, its parts agree, and it is recent.
-  const std::string folder = dir + "/run_checkpoint";
   const live::CheckpointInfo info = live::CheckpointInfo::read(folder);
   const double lostSeconds = killTime - info.unixTime;
   const double slowest = slowestCheckpointSeconds(stderrText);
@@ -305,8 +359,17 @@ TEST(SlamdunkLive, SigkillMidwayLosesAtMostOneCheckpointInterval) {
       "SIGKILL: checkpoint %zu taken %.2f s before the kill (interval %.1f s, slowest write "
       "%.2f s): %zu frames, %zu keyframes\n",
       info.sequence, lostSeconds, interval, slowest, info.framesProcessed, info.keyframes);
-  EXPECT_GE(info.sequence, 3u) << stderrText;
+  EXPECT_GE(info.sequence, 4u) << stderrText;
   EXPECT_GE(lostSeconds, 0);
+  // Taken every interval: the kill's moment follows the 4th checkpoint, however late it comes,
+  // so the checkpoints' own times show whether they came on time (measured: every 2.0 s).
+  for (size_t i = 1; i < seen.size(); ++i) {
+    const double gap = seen[i].unixTime - seen[i - 1].unixTime;
+    std::printf("checkpoint %zu taken %.2f s after checkpoint %zu\n", seen[i].sequence, gap,
+                seen[i - 1].sequence);
+    EXPECT_EQ(seen[i].sequence, seen[i - 1].sequence + 1) << "a checkpoint went unseen";
+    EXPECT_LE(gap, interval + slowest + 0.5) << stderrText;
+  }
   // At most one interval lost: the next checkpoint's snapshot is due `interval` after this
   // one's, and it counts once its write is complete.
   EXPECT_LE(lostSeconds, interval + slowest + 0.5) << stderrText;
@@ -317,11 +380,6 @@ TEST(SlamdunkLive, SigkillMidwayLosesAtMostOneCheckpointInterval) {
 #endif
   const Trajectory traj = readTumTrajectory(folder + "/trajectory.txt");
   ASSERT_EQ(traj.size(), info.framesTracked);
-#ifdef SLAMDUNK_SANITIZED
-  const size_t fewestFrames = 30;  // tracking runs at 7-9 frames/s under the sanitizers
-#else
-  const size_t fewestFrames = 100;  // about 7 s of 30 Hz frames before the last checkpoint
-#endif
   ASSERT_GE(traj.size(), fewestFrames);
   EXPECT_NEAR(traj.back().timestamp, info.lastFrameTimestamp, 1e-6);
   // It covers the frames up to the last checkpoint: from the first frame on, in order, each a
@@ -420,9 +478,22 @@ TEST(SlamdunkLive, GenericSensorCCameraSensorReplaysARawlog) {
                                         rawlog + "\nprocess_rate = 30\nsensorLabel = CAM\n");
   const LiveRun r = runLive(ini, dir);
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  std::printf("CCameraSensor at 30 Hz: received %g, dropped %g, processed %g, tracked %g\n",
+              r.value("frames_received"), r.value("frames_dropped"), r.value("frames_processed"),
+              r.value("tracked"));
   EXPECT_EQ(r.value("frames_received"), 9) << r.result.output;
   EXPECT_EQ(r.value("frames_processed") + r.value("frames_dropped"), 9) << r.result.output;
-  EXPECT_GE(readTumTrajectory(r.trajectory).size(), 5u) << r.result.output;
+  EXPECT_EQ(readTumTrajectory(r.trajectory).size(), r.value("tracked")) << r.result.output;
+#ifdef SLAMDUNK_SANITIZED
+  // Tracking runs at 7-9 frames/s, about 4 times slower than 30 Hz: frames are dropped, and
+  // fr1/desk moves fast between those left.
+  EXPECT_GE(r.value("tracked"), 5) << r.result.output;
+#else
+  // Measured (3 runs, beside two busy loops on this machine's two cores): all 9 processed and
+  // tracked. The queue holds 4 frames (133 ms) for a slow moment: one may be dropped.
+  EXPECT_GE(r.value("frames_processed"), 8) << r.result.output;
+  EXPECT_EQ(r.value("tracked"), r.value("frames_processed")) << r.result.output;
+#endif
 }
 
 // A camera driver stamps a frame when it has arrived; sensor_stamp_latency_ms moves every stamp

@@ -74,11 +74,12 @@ std::shared_ptr<KeyframeGraph> sweepGraph() {
   return graph;
 }
 
-#define REQUIRE_SWEEP_GRAPH(var)                                        \
-  const auto var = sweepGraph();                                        \
-  if (!var)                                                             \
-  GTEST_SKIP() << "rawlog 'synthetic_sweep' was not prepared (run the " \
-                  "prepare_test_data test)"
+#define REQUIRE_SWEEP_GRAPH(var)                            \
+  const auto var = sweepGraph();                            \
+  if (!var)                                                 \
+  SLAMDUNK_SKIP(                                            \
+      "rawlog 'synthetic_sweep' was not prepared (run the " \
+      "prepare_test_data test)")
 
 bool sameBytes(const cv::Mat& a, const cv::Mat& b) {
   if (a.rows != b.rows || a.cols != b.cols || a.type() != b.type()) return false;
@@ -640,8 +641,9 @@ TEST(SimpleMapExport, WritesKeyframesWithPosesAndObservations) {
 TEST(SimpleMapExport, ObservationsToMapBuildsAPointMap) {
   REQUIRE_SWEEP_GRAPH(graph);
   if (test::runCommand("command -v observations2map").exitCode != 0)
-    GTEST_SKIP() << "MRPT's observations2map is not installed (apt-get install mrpt-apps); "
-                    "the export itself is checked by WritesKeyframesWithPosesAndObservations";
+    SLAMDUNK_SKIP(
+        "MRPT's observations2map is not installed (apt-get install mrpt-apps); "
+        "the export itself is checked by WritesKeyframesWithPosesAndObservations");
   const std::string dir = test::scratchDir("Maps_Observations2Map");
   exportSimpleMap(*graph, dir + "/map.simplemap");
   {
@@ -745,7 +747,7 @@ TEST(SlamDunkMapBuilder, ConventionsAgreeWithGroundTruth) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string gtPath =
       (fs::path(rawlog).parent_path() / "synthetic_sweep_groundtruth.txt").string();
-  if (!fs::exists(gtPath)) GTEST_SKIP() << "no ground truth beside " << rawlog;
+  if (!fs::exists(gtPath)) SLAMDUNK_SKIP("no ground truth beside " << rawlog);
   const Trajectory gt = readTumTrajectory(gtPath);
   CSlamDunkMapBuilder builder;
   RawlogReader reader(rawlog);

@@ -40,7 +40,7 @@ class CheckDepthAlignmentTool : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!std::ifstream(toolPath("check-depth-alignment")).good())
-      GTEST_SKIP() << "tool not built: " << toolPath("check-depth-alignment");
+      SLAMDUNK_SKIP("tool not built: " << toolPath("check-depth-alignment"));
     dir = scratchDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
   }
   std::string dir;

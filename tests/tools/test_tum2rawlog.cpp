@@ -149,7 +149,7 @@ INSTANTIATE_TEST_SUITE_P(AllSequences, Tum2RawlogOnRealData,
 TEST(Tum2Rawlog, SevenScenesOpensInRawlogEdit) {
   SLAMDUNK_REQUIRE_DATA(seq, "7scenes/seq-1000f");
   if (test::runCommand("command -v rawlog-edit").exitCode != 0)
-    GTEST_SKIP() << "rawlog-edit (package mrpt-apps) not installed";
+    SLAMDUNK_SKIP("rawlog-edit (package mrpt-apps) not installed");
   const std::string dir = test::scratchDir("Tum2Rawlog_RawlogEdit");
   auto r =
       test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " + dir +
@@ -222,7 +222,7 @@ class Tum2RawlogBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
     if (test::dataPath("tum/fr1_xyz_2f").empty())
-      GTEST_SKIP() << "test data 'tum/fr1_xyz_2f' not found under " << test::dataDir();
+      SLAMDUNK_SKIP("test data 'tum/fr1_xyz_2f' not found under " << test::dataDir());
     const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     seq = damagedCopy("Tum2RawlogBad_" + name);
     out = fs::path(seq).parent_path().string() + "/out.rawlog";

@@ -42,10 +42,42 @@ std::vector<std::string> errorLines(const std::string& output) {
   return found;
 }
 
+/// Screenshots of the whole display (saved to `png`) until `shows` holds for one, the viewer
+/// exits, or 120 s pass (a deadline a viewer that draws never reaches): the last screenshot.
+template <class Shows>
+cv::Mat screenshotShowing(const test::VirtualDisplay& display, test::ChildProcess& viewer,
+                          const std::string& png, Shows shows) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  for (;;) {
+    const cv::Mat shot = display.screenshot(png);
+    if ((!shot.empty() && shows(shot)) || !viewer.alive() || std::chrono::steady_clock::now() > end)
+      return shot;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+}
+
+/// The keyframe frustums and graph edges are drawn orange (255, 160, 0): SceneViewer3D's own
+/// empty view has no orange, only its grey grid and red, green and blue axes. The map's cloud
+/// has orange points too: measured 546 orange pixels with the frustums and edges, 289 without
+/// (slamdunk-render --no-frustums --no-edges); 643 and 369 coloured pixels.
+constexpr int kFewestOrange = 420, kFewestColoured = 480;
+int orangePixels(const cv::Mat& shot) { return test::colouredPixels(shot, 10, 25); }
+int colouredPixels(const cv::Mat& shot) { return test::colouredPixels(shot, 0, 180); }
+
+/// The fraction of the screen drawn light: the RawLogViewer window (light GTK theme) on the
+/// black root window (measured 16.0-17.0 % of the 1280x1024 screen).
+constexpr double kLightest = 0.10;
+double lightFraction(const cv::Mat& shot) {
+  cv::Mat grey, light;
+  cv::cvtColor(shot, grey, cv::COLOR_BGR2GRAY);
+  cv::threshold(grey, light, 200, 255, cv::THRESH_BINARY);
+  return cv::countNonZero(light) / double(grey.total());
+}
+
 }  // namespace
 
 TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
-  if (const auto why = test::missingDisplayTools({"SceneViewer3D"})) GTEST_SKIP() << *why;
+  if (const auto why = test::missingDisplayTools({"SceneViewer3D"})) SLAMDUNK_SKIP(*why);
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("Viewers_SceneViewer3D");
   // A map of the first 120 frames, and its scene as slamdunk-render writes it.
@@ -60,26 +92,30 @@ TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
 
   test::VirtualDisplay display(dir + "/xvfb.log");
   if (display.name().empty())
-    GTEST_SKIP() << "no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log");
+    SLAMDUNK_SKIP("no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log"));
   test::ChildProcess viewer({"stdbuf", "-oL", "-eL", "SceneViewer3D", dir + "/m.3Dscene"},
                             {"DISPLAY=" + display.name()}, dir + "/viewer.log");
   ASSERT_TRUE(viewer.started());
   ASSERT_TRUE(display.waitForWindow("[m.3Dscene]", 60))
       << "no SceneViewer3D window with the scene's name; output:\n"
       << readFile(dir + "/viewer.log");
-  std::this_thread::sleep_for(std::chrono::seconds(5));  // it loads, then draws
-  const cv::Mat shot = display.screenshot(dir + "/viewer.png");
+  // It loads, then draws: screenshots until the map is on the screen.
+  const auto shown = std::chrono::steady_clock::now();
+  const cv::Mat shot =
+      screenshotShowing(display, viewer, dir + "/viewer.png", [](const cv::Mat& s) {
+        return orangePixels(s) >= kFewestOrange && colouredPixels(s) >= kFewestColoured;
+      });
   EXPECT_TRUE(viewer.alive()) << "SceneViewer3D exited; output:\n" << readFile(dir + "/viewer.log");
   viewer.stop();
   ASSERT_FALSE(shot.empty());
-  // The keyframe frustums and graph edges are drawn orange (255, 160, 0): SceneViewer3D's own
-  // empty view has no orange, only its grey grid and red, green and blue axes.
-  const int orange = test::colouredPixels(shot, 10, 25);
-  const int coloured = test::colouredPixels(shot, 0, 180);
+  const int orange = orangePixels(shot);
+  const int coloured = colouredPixels(shot);
   std::cout << "SceneViewer3D: " << orange << " orange pixels, " << coloured << " coloured in all ("
-            << dir << "/viewer.png)\n";
-  EXPECT_GE(orange, 20) << "no keyframe frustum on the screen: " << dir;
-  EXPECT_GE(coloured, 100) << "the map is not on the screen: " << dir;
+            << dir << "/viewer.png), "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - shown).count()
+            << " s after its window appeared\n";
+  EXPECT_GE(orange, kFewestOrange) << "no keyframe frustum on the screen within 120 s: " << dir;
+  EXPECT_GE(coloured, kFewestColoured) << "the map is not on the screen within 120 s: " << dir;
   const auto errors = errorLines(readFile(dir + "/viewer.log"));
   EXPECT_TRUE(errors.empty()) << errors.front();
 }
@@ -89,12 +125,12 @@ TEST(MrptViewers, RawLogViewerStartsWithTheMapPlugin) {
   GTEST_SKIP() << "the plug-in is ASan-instrumented here and RawLogViewer is not: it cannot load "
                   "it (the ASan runtime must come first); the Release suite runs this test";
 #endif
-  if (const auto why = test::missingDisplayTools({"RawLogViewer"})) GTEST_SKIP() << *why;
+  if (const auto why = test::missingDisplayTools({"RawLogViewer"})) SLAMDUNK_SKIP(*why);
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("Viewers_RawLogViewer");
   test::VirtualDisplay display(dir + "/xvfb.log");
   if (display.name().empty())
-    GTEST_SKIP() << "no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log");
+    SLAMDUNK_SKIP("no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log"));
   test::ChildProcess viewer(
       {"stdbuf", "-oL", "-eL", "RawLogViewer", "-l", SLAMDUNK_MAPS_PLUGIN, rawlog},
       {"DISPLAY=" + display.name()}, dir + "/viewer.log");
@@ -102,24 +138,27 @@ TEST(MrptViewers, RawLogViewerStartsWithTheMapPlugin) {
   ASSERT_TRUE(display.waitForWindow("RawlogViewer - Part of the MRPT project", 60))
       << "no RawLogViewer window; output:\n"
       << readFile(dir + "/viewer.log");
-  std::this_thread::sleep_for(std::chrono::seconds(5));
-  const cv::Mat shot = display.screenshot(dir + "/viewer.png");
+  // Screenshots until the window is drawn and the plug-in's loading is reported.
+  const auto shown = std::chrono::steady_clock::now();
+  const std::string loading = std::string("Loading plugin libraries: ") + SLAMDUNK_MAPS_PLUGIN;
+  const cv::Mat shot =
+      screenshotShowing(display, viewer, dir + "/viewer.png", [&](const cv::Mat& s) {
+        return lightFraction(s) >= kLightest &&
+               readFile(dir + "/viewer.log").find(loading) != std::string::npos;
+      });
   EXPECT_TRUE(viewer.alive()) << "RawLogViewer exited; output:\n" << readFile(dir + "/viewer.log");
   viewer.stop();
   const std::string output = readFile(dir + "/viewer.log");
   // It names the plug-in it loads, and says nothing about failing to.
-  EXPECT_NE(output.find(std::string("Loading plugin libraries: ") + SLAMDUNK_MAPS_PLUGIN),
-            std::string::npos)
-      << output;
+  EXPECT_NE(output.find(loading), std::string::npos) << output;
   const auto errors = errorLines(output);
   EXPECT_TRUE(errors.empty()) << errors.front();
   // Not blank: the window (light GTK theme) covers part of the black root window.
   ASSERT_FALSE(shot.empty());
-  cv::Mat grey, light;
-  cv::cvtColor(shot, grey, cv::COLOR_BGR2GRAY);
-  cv::threshold(grey, light, 200, 255, cv::THRESH_BINARY);
-  const double lightFraction = cv::countNonZero(light) / double(grey.total());
-  std::cout << "RawLogViewer: " << lightFraction * 100 << " % of the screen drawn light (" << dir
-            << "/viewer.png)\n";
-  EXPECT_GE(lightFraction, 0.05);
+  const double light = lightFraction(shot);
+  std::cout << "RawLogViewer: " << light * 100 << " % of the screen drawn light (" << dir
+            << "/viewer.png), "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - shown).count()
+            << " s after its window appeared\n";
+  EXPECT_GE(light, kLightest) << "the window was not drawn within 120 s";
 }

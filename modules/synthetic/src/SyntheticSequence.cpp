@@ -91,6 +91,9 @@ void SyntheticOptions::validate() const {
   if (frames < 0 || frames == 1)
     throw std::invalid_argument("frames must be 0 (trajectory default) or at least 2, not " +
                                 std::to_string(frames));
+  if (firstFrames < 0 || firstFrames == 1)
+    throw std::invalid_argument("first frames must be 0 (all) or at least 2, not " +
+                                std::to_string(firstFrames));
   if (width < 16 || height < 16 || width > 4096 || height > 4096)
     throw std::invalid_argument("image size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " is out of range (16..4096)");
@@ -130,6 +133,8 @@ void SyntheticOptions::enableHandHeldEffects() {
 SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_(options) {
   options_.validate();
   groundTruth_ = SyntheticTrajectory::generate(options_.trajectory, options_.frames);
+  if (options_.firstFrames > 0 && size_t(options_.firstFrames) < groundTruth_.size())
+    groundTruth_.resize(size_t(options_.firstFrames));
   poseAt_ = SyntheticTrajectory::shape(options_.trajectory, options_.frames);
   scene_ = std::make_unique<SyntheticScene>(
       FloorPlan::named(SyntheticTrajectory::sceneOf(options_.trajectory)), options_.seed,
@@ -336,7 +341,8 @@ class SyntheticRawlogWriter {
   const std::string& imagesFolder() const { return imagesFolder_; }
 
   /// Appends frame i. With external images, a colour PNG another writer already made of the
-  /// same image (colourPng) is copied instead of encoded again. Returns this writer's PNG.
+  /// same image (colourPng) is hard-linked (copied where the folder cannot link), not encoded
+  /// again: a Kinect twin's colour takes no second copy on disk. Returns this writer's PNG.
   std::string write(mrpt::obs::CObservation3DRangeScan& obs, size_t i,
                     const std::string& colourPng = {}) {
     std::string rgbFile;
@@ -346,7 +352,9 @@ class SyntheticRawlogWriter {
       char name[64];
       std::snprintf(name, sizeof(name), "%06zu_rgb.png", i);
       rgbFile = (fs::path(images_->tempPath()) / name).string();
-      if (!colourPng.empty())
+      std::error_code linkError;
+      if (!colourPng.empty()) fs::create_hard_link(colourPng, rgbFile, linkError);
+      if (!colourPng.empty() && linkError)
         fs::copy_file(colourPng, rgbFile);
       else if (!cv::imwrite(rgbFile, obs.intensityImage.asCvMatRef()))
         throw std::runtime_error("cannot write image '" + rgbFile + "'");

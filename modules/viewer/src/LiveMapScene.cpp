@@ -36,6 +36,34 @@ mrpt::opengl::CFrustum::Ptr frustum(float depth, const unsigned char (&c)[3], fl
   return f;
 }
 
+/// Each point of a keyframe's cloud, in order: its subsampled depth's valid pixels, as (u, v)
+/// in the full image and the depth z.
+template <class Point>
+void forEachCloudPixel(const Keyframe& kf, const LiveMapSceneOptions& options, Point&& point) {
+  cv::Mat depth;
+  kf.depthSmall.convertTo(depth, CV_32F);
+  const int s = std::max(1, kf.depthSmallStride);
+  const int step = std::max(1, options.cloudStride);
+  for (int r = 0; r < depth.rows; r += step)
+    for (int c = 0; c < depth.cols; c += step) {
+      const float z = depth.at<float>(r, c);
+      if (!(z > 0.1f && z < options.maxDepth)) continue;
+      point(c * s, r * s, z);
+    }
+}
+
+/// A cloud point's colour: its pixel in the keyframe's image, or without one a neutral
+/// blue-grey, lighter near the camera.
+mrpt::img::TColorf pointColour(const cv::Mat& image, int u, int v, float z, double maxDepth) {
+  if (!image.empty() && u < image.cols && v < image.rows) {
+    const uchar* px = image.ptr<uchar>(v) + u * image.channels();
+    return mrpt::img::TColorf(px[image.channels() > 2 ? 2 : 0] / 255.f,
+                              px[image.channels() > 1 ? 1 : 0] / 255.f, px[0] / 255.f);
+  }
+  const float shade = 0.35f + 0.5f * (1 - z / static_cast<float>(maxDepth));
+  return mrpt::img::TColorf(shade, shade, std::min(1.0f, shade + 0.15f));
+}
+
 }  // namespace
 
 LiveMapScene::LiveMapScene(const LiveMapSceneOptions& options) : options_(options) {
@@ -79,7 +107,9 @@ void LiveMapScene::attachTo(mrpt::opengl::COpenGLScene& scene) {
 void LiveMapScene::addFrame(const FrameRecord& record) { frames_.push_back(record); }
 
 void LiveMapScene::setKeyframeColour(KeyframeId id, const cv::Mat& colour) {
-  if (!keyframeObjects_.count(id)) keyframeColours_[id] = colour;
+  // Taken by the next update(): for a keyframe not drawn yet, or one drawn before its image
+  // came (see update()).
+  keyframeColours_[id] = colour;
 }
 
 void LiveMapScene::markLoopClosure(KeyframeId id) {
@@ -91,35 +121,18 @@ mrpt::opengl::CSetOfObjects::Ptr LiveMapScene::makeKeyframe(const Keyframe& kf) 
   group->insert(frustum(0.08f, kFrustum, 1));
   if (kf.depthSmall.empty() || !options_.showCloud) return group;
   // The cloud: the keyframe's subsampled depth (kept in every map), coloured by its image.
-  cv::Mat depth;
-  kf.depthSmall.convertTo(depth, CV_32F);
   cv::Mat image = kf.colour;
   if (const auto it = keyframeColours_.find(kf.id); image.empty() && it != keyframeColours_.end())
     image = it->second;
-  const int s = std::max(1, kf.depthSmallStride);
-  const int step = std::max(1, options_.cloudStride);
   auto cloud = mrpt::opengl::CPointCloudColoured::Create();
-  cloud->reserve(static_cast<size_t>(depth.rows / step + 1) * (depth.cols / step + 1));
-  for (int r = 0; r < depth.rows; r += step)
-    for (int c = 0; c < depth.cols; c += step) {
-      const float z = depth.at<float>(r, c);
-      if (!(z > 0.1f && z < options_.maxDepth)) continue;
-      const int u = c * s, v = r * s;
-      const Eigen::Vector3d p = kf.intrinsics.backProject(u, v, z);
-      float red, green, blue;
-      if (!image.empty() && u < image.cols && v < image.rows) {
-        const uchar* px = image.ptr<uchar>(v) + u * image.channels();
-        blue = px[0] / 255.f;
-        green = px[image.channels() > 1 ? 1 : 0] / 255.f;
-        red = px[image.channels() > 2 ? 2 : 0] / 255.f;
-      } else {
-        // No image: a neutral blue-grey, lighter near the camera.
-        const float shade = 0.35f + 0.5f * (1 - z / options_.maxDepth);
-        red = green = shade;
-        blue = std::min(1.0f, shade + 0.15f);
-      }
-      cloud->push_back(float(p.x()), float(p.y()), float(p.z()), red, green, blue);
-    }
+  const int step = std::max(1, options_.cloudStride);
+  cloud->reserve(static_cast<size_t>(kf.depthSmall.rows / step + 1) *
+                 (kf.depthSmall.cols / step + 1));
+  forEachCloudPixel(kf, options_, [&](int u, int v, float z) {
+    const Eigen::Vector3d p = kf.intrinsics.backProject(u, v, z);
+    const mrpt::img::TColorf c = pointColour(image, u, v, z, options_.maxDepth);
+    cloud->push_back(float(p.x()), float(p.y()), float(p.z()), c.R, c.G, c.B);
+  });
   cloud->setPointSize(options_.pointSize);
   group->insert(cloud);
   return group;
@@ -137,6 +150,23 @@ void LiveMapScene::update(const KeyframeGraph& graph, const ViewerFrame* latest,
       it = keyframeObjects_.emplace(id, makeKeyframe(*kf)).first;
       keyframeColours_.erase(id);
       keyframes_->insert(it->second);
+    } else if (const auto colour = keyframeColours_.find(id); colour != keyframeColours_.end()) {
+      // The graph has a keyframe as soon as tracking made it, its image comes with its frame's
+      // batch, later (a frame later when the viewer was taking the previous batch): drawn
+      // meanwhile in the neutral colour, its cloud is coloured now, in place (a busy machine
+      // left most of a live session's cloud grey).
+      if (const KeyframePtr kf = graph.keyframe(id); kf && kf->colour.empty()) {
+        if (const auto cloud = it->second->getByClass<mrpt::opengl::CPointCloudColoured>()) {
+          size_t i = 0;
+          forEachCloudPixel(*kf, options_, [&](int u, int v, float z) {
+            if (i >= cloud->size()) return;
+            const mrpt::img::TColorf c = pointColour(colour->second, u, v, z, options_.maxDepth);
+            cloud->setPointColor_fast(i++, c.R, c.G, c.B);
+          });
+          cloud->markAllPointsAsNew();
+        }
+      }
+      keyframeColours_.erase(colour);
     }
     it->second->setPose(toCPose3D(pose));
   }

@@ -222,6 +222,7 @@ void LiveViewer::openWindow() {
       // Started here, not by the window, so that MRPT's 5 s deadline for it does not decide.
       if (!window_thread::start(kWindowThreadAnswerSeconds))
         throw std::runtime_error("MRPT's window thread did not start");
+      usesWindowThread_ = true;
       window_ = std::make_unique<mrpt::gui::CDisplayWindow3D>(options_.title, options_.width,
                                                               options_.height);
     } catch (const std::exception& e) {
@@ -261,6 +262,7 @@ void LiveViewer::run() {
     openWindow();
   } catch (const std::exception& e) {
     closeWindow();  // what was made so far
+    endWindowThread();
     std::lock_guard lock(mutex_);
     startError_ = e.what();
     changed_.notify_all();
@@ -323,10 +325,21 @@ void LiveViewer::run() {
   }
   closeWindow();
   playback_.release();
+  endWindowThread();
   std::lock_guard lock(mutex_);
   closed_ = true;
   flushRequested_ = false;
   changed_.notify_all();
+}
+
+void LiveViewer::endWindowThread() {
+  // The last viewer of the process stops MRPT's window thread and joins it here, while every
+  // object it uses still lives, rather than leaving it to the process's exit: see
+  // MrptWindowThread.h (the double free at the exit of slamdunk-live --gui --gui-wait).
+  // It goes on while another viewer or window is open (then the last viewer or the exit stops
+  // it), or if it does not answer (finish() says so).
+  if (usesWindowThread_) window_thread::finish(kWindowThreadAnswerSeconds);
+  usesWindowThread_ = false;
 }
 
 bool LiveViewer::handleKeys() {

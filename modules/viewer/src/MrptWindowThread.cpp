@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <future>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -46,7 +47,9 @@ int openWindows() {
 
 struct ExitState {
   std::mutex mutex;
-  bool armed = false;
+  bool armed = false;    ///< this process's exit (or last user) ends the thread: see armExit
+  bool stopped = false;  ///< the thread was stopped and joined
+  int users = 0;         ///< start() calls not finished yet
   double seconds = 0;
   std::future<void> threadEnded;            ///< MRPT signals it when its thread has left wxWidgets
   std::vector<std::shared_ptr<void>> kept;  ///< never freed (see keepToTheEnd)
@@ -56,23 +59,47 @@ ExitState& exitState() {
   return *state;
 }
 
-void stopAtExit() {
-  ExitState& s = exitState();
-  std::lock_guard lock(s.mutex);
-  // A window someone else opened keeps the loop running whatever is asked: the exit is MRPT's.
-  if (openWindows() > 0) return;
-  post(kStopThread);
-  if (s.threadEnded.wait_for(std::chrono::duration<double>(s.seconds)) !=
-      std::future_status::ready) {
+/// Stops the thread and waits for it to end (up to `seconds`), then joins it; `s.mutex` held.
+/// True if it has ended.
+bool stopThread(ExitState& s, double seconds) {
+  if (s.stopped) return true;
+  if (!s.armed) return false;  // not ours to end
+  const bool asked = s.threadEnded.wait_for(std::chrono::seconds(0)) == std::future_status::ready ||
+                     !WxSubsystem::CWXMainFrame::oneInstance;  // ending already
+  if (!asked) {
+    // A window closes on the thread (the close is an event, which also updates MRPT's window
+    // count): once a function queued after it has run, every close asked before is done.
+    if (!run([] {}, seconds)) {
+      std::fprintf(stderr, "slamdunk viewer: MRPT's window thread did not answer within %.0f s\n",
+                   seconds);
+      return false;
+    }
+    // A window someone else opened keeps the loop running whatever is asked: its owner's (or
+    // MRPT's) exit then ends it.
+    if (openWindows() > 0) return false;
+    post(kStopThread);
+  }
+  if (s.threadEnded.wait_for(std::chrono::duration<double>(seconds)) != std::future_status::ready) {
     std::fprintf(stderr, "slamdunk viewer: MRPT's window thread did not end within %.0f s\n",
-                 s.seconds);
-    return;
+                 seconds);
+    return false;
   }
   auto& thread = WxSubsystem::GetWxMainThreadInstance();
   {
     std::lock_guard threadLock(thread.m_csWxMainThreadId);
     if (thread.m_wxMainThreadId.joinable()) thread.m_wxMainThreadId.join();
   }
+  s.stopped = true;
+  return true;
+}
+
+/// The exit's last resort, for a thread that finish() did not stop (a viewer still open at the
+/// exit, or another window open when the last viewer ended). It runs after the destructors of
+/// the static objects made after armExit (see MrptWindowThread.h): viewers must end before.
+void stopAtExit() {
+  ExitState& s = exitState();
+  std::lock_guard lock(s.mutex);
+  stopThread(s, s.seconds);
 }
 
 void armExit(double seconds) {
@@ -88,14 +115,24 @@ void armExit(double seconds) {
   }
   s.armed = true;
   s.seconds = seconds;
-  // Exit runs its handlers in reverse order: this one before the static objects the window
-  // system made so far, which its thread uses.
   std::atexit(stopAtExit);
 }
 
 }  // namespace
 
 bool start(double seconds) {
+  {
+    ExitState& s = exitState();
+    std::lock_guard lock(s.mutex);
+    if (s.stopped)
+      throw std::runtime_error(
+          "MRPT's window thread ended with the last viewer of this process, and MRPT cannot "
+          "start it again: open a process's viewers before its last one closes");
+  }
+  // MRPT's request queue and window count are a static object made at their first use (by
+  // the thread's first timer tick, or the first request): made here, before the exit handler
+  // is registered, it is destroyed after the handler has used it.
+  openWindows();
   if (!WxSubsystem::CWXMainFrame::oneInstance) {
     // Returns false after MRPT's own 5 s when the thread is slow to start; it starts anyway.
     WxSubsystem::createOneInstanceMainThread();
@@ -103,7 +140,18 @@ bool start(double seconds) {
       return false;
   }
   armExit(seconds);
+  ExitState& s = exitState();
+  std::lock_guard lock(s.mutex);
+  ++s.users;
   return true;
+}
+
+bool finish(double seconds) {
+  ExitState& s = exitState();
+  std::lock_guard lock(s.mutex);
+  if (s.users > 0) --s.users;
+  if (s.users > 0) return false;
+  return stopThread(s, seconds);
 }
 
 bool run(std::function<void()> f, double seconds) {

@@ -38,8 +38,18 @@ bool PlaybackControl::paused() const {
 
 void PlaybackControl::waitForTurn() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return released_ || !paused_ || steps_ > 0; });
+  const auto mayGo = [&] { return released_ || !paused_ || steps_ > 0; };
+  if (!mayGo()) {
+    ++waiting_;
+    changed_.wait(lock, mayGo);
+    --waiting_;
+  }
   if (paused_ && steps_ > 0) --steps_;
+}
+
+size_t PlaybackControl::waiting() const {
+  std::lock_guard lock(mutex_);
+  return waiting_;
 }
 
 }  // namespace slamdunk::viewer

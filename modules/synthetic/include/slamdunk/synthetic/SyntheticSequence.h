@@ -27,7 +27,10 @@ struct SyntheticOptions {
   /// See SyntheticTrajectory::names(); the trajectory also chooses the scene
   /// (SyntheticTrajectory::sceneOf: "room" for sweep and loop, "office" for tour).
   std::string trajectory = "loop";
-  int frames = 0;     ///< 0 = the trajectory's default count
+  int frames = 0;  ///< 0 = the trajectory's default count
+  /// Only the first N of those frames (0 = all): the start of a long path at its own speed,
+  /// e.g. 20 s of the 2.5-minute scan for a short test.
+  int firstFrames = 0;
   unsigned seed = 1;  ///< selects the textures (and the depth noise)
   int width = 640, height = 480;
   double fx = 525, fy = 525, cx = 319.5, cy = 239.5;

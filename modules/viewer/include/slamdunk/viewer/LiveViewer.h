@@ -62,11 +62,18 @@ struct ViewerOptions {
 class LiveViewer {
  public:
   /// Opens the window. Throws std::runtime_error when no X display can be opened (DISPLAY
-  /// unset or unreachable) or the window cannot be created.
+  /// unset or unreachable) or the window cannot be created (also once the process's window
+  /// thread has been stopped, see ~LiveViewer).
   LiveViewer(std::shared_ptr<const KeyframeGraph> graph, ViewerOptions options = {});
-  /// Closes the window, once MRPT's window thread has handled every request before the close
-  /// however long that takes. The closed window object (and its scene) is kept to the process's
-  /// end, when its thread is stopped and waited for (src/MrptWindowThread.h says why).
+  /// Closes the window (unless closed already), once MRPT's window thread has handled every
+  /// request before the close however long that takes. The closed window object (and its
+  /// scene) is kept to the process's end (src/MrptWindowThread.h says why). When the window
+  /// closes — by a key, its close button or this destructor — and no other viewer or MRPT
+  /// window is open, MRPT's window thread is stopped and joined (waited for however long it is
+  /// busy, up to 300 s), so that the process's exit finds no thread using what it destroys.
+  /// MRPT cannot start that thread twice: a viewer opened in the same process after that
+  /// throws std::runtime_error. A viewer still open when the process exits is left to an exit
+  /// handler, which runs too late to be safe: destroy viewers before main returns.
   ~LiveViewer();
   LiveViewer(const LiveViewer&) = delete;
   LiveViewer& operator=(const LiveViewer&) = delete;
@@ -84,7 +91,8 @@ class LiveViewer {
   /// publishes, or after that thread ended.
   void flush();
   bool isOpen() const { return !closed_; }
-  /// Blocks until the user closes the window or presses q or Esc in it.
+  /// Blocks until the user closes the window or presses q or Esc in it, and the window is
+  /// closed (with MRPT's window thread, if this was the last window: see ~LiveViewer).
   void waitUntilClosed();
 
   size_t updatesDrawn() const { return updates_; }
@@ -105,6 +113,7 @@ class LiveViewer {
   bool handleKeys();
   void update();
   void closeWindow();
+  void endWindowThread();
 
   const std::shared_ptr<const KeyframeGraph> graph_;
   const ViewerOptions options_;
@@ -125,6 +134,7 @@ class LiveViewer {
   std::atomic<bool> closed_{false};
   std::atomic<size_t> updates_{0};
   class KeyQueue;
+  bool usesWindowThread_ = false;                        ///< viewer thread only
   std::unique_ptr<KeyQueue> keys_;                       ///< filled by the window's thread
   std::unique_ptr<mrpt::gui::CDisplayWindow3D> window_;  ///< viewer thread only
   std::unique_ptr<LiveMapScene> scene_;                  ///< viewer thread only

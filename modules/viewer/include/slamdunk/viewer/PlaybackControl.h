@@ -20,12 +20,16 @@ class PlaybackControl {
   /// Returns at once unless paused; while paused, waits for step() (returns: one frame),
   /// togglePause() or release().
   void waitForTurn();
+  /// How many threads are blocked in waitForTurn() now (counted only while they really wait;
+  /// one that may go at once is never counted): tests wait for a frame to be held.
+  size_t waiting() const;
 
  private:
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   bool paused_ = false, released_ = false;
-  size_t steps_ = 0;  ///< frames allowed through while paused
+  size_t steps_ = 0;    ///< frames allowed through while paused
+  size_t waiting_ = 0;  ///< threads blocked in waitForTurn()
 };
 
 }  // namespace slamdunk::viewer
