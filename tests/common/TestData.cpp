@@ -20,10 +20,16 @@ std::string dataDir() {
   return SLAMDUNK_DEFAULT_DATA_DIR;
 }
 
-bool prerequisitesRequired() {
-  const char* env = std::getenv("SLAMDUNK_REQUIRE_DATA");
+namespace {
+bool environmentFlag(const char* name) {
+  const char* env = std::getenv(name);
   return env && std::string(env) == "1";
 }
+}  // namespace
+
+bool prerequisitesRequired() { return environmentFlag("SLAMDUNK_REQUIRE_DATA"); }
+
+bool longTestsEnabled() { return environmentFlag("SLAMDUNK_LONG_TESTS"); }
 
 std::string dataPath(const std::string& relative) {
   const fs::path p = fs::path(dataDir()) / relative;

@@ -46,6 +46,10 @@ std::vector<double> jsonArray(const std::string& json, const std::string& key);
 /// them is never green.
 bool prerequisitesRequired();
 
+/// True when SLAMDUNK_LONG_TESTS=1 (scripts/test-long.sh): tests then also run the variants CI
+/// leaves out for time (the same code on a second, longer or differently degraded input).
+bool longTestsEnabled();
+
 }  // namespace slamdunk::test
 
 /// Skips the current test with `message` (a `<<` chain), or fails it with the same message

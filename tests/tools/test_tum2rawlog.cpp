@@ -62,6 +62,9 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
   const std::string name = GetParam();
   SLAMDUNK_REQUIRE_DATA(seq, name);
   const bool external = name.rfind("7scenes", 0) == 0;  // also exercises external storage
+  // 7-Scenes' first 200 frames: the read-back registers every depth image again; the whole
+  // sequence is converted for the SLAM tests (prepare-test-data.sh) and read back there.
+  const size_t maxFrames = external ? 200 : 0;
   const double factor = external ? 1000.0 : 5000.0;
   std::string safe = name;
   for (char& c : safe)
@@ -70,7 +73,9 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
   const std::string rawlog = dir + "/seq.rawlog";
   const auto r = test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " +
                                   quote(rawlog) + " --camera " + quote(cameraFor(name)) +
-                                  (external ? " --external-images" : "") + " -q");
+                                  (external ? " --external-images" : "") +
+                                  (maxFrames ? " --max-frames " + std::to_string(maxFrames) : "") +
+                                  " -q");
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   // Expected pairs: nearest depth stamp for each colour stamp (these sets have no ties).
@@ -85,6 +90,7 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
         best = &d;
     if (best) expected.emplace_back(c, *best);
   }
+  if (maxFrames && expected.size() > maxFrames) expected.resize(maxFrames);
   EXPECT_NE(r.output.find("frames:           " + std::to_string(expected.size())),
             std::string::npos)
       << r.output;
