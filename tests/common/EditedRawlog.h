@@ -7,11 +7,23 @@
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
+#include <opencv2/core.hpp>
 
 #include <string>
 #include <type_traits>
 
 namespace slamdunk::test {
+
+/// Loads the frame's external images and marks them as its own: the copy must not point into the
+/// source's images folder under a name relative to the copy.
+inline void embedImages(mrpt::obs::CObservation3DRangeScan& obs) {
+  obs.load();
+  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored())
+    obs.intensityImage =
+        mrpt::img::CImage(obs.intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY),
+                          mrpt::img::DEEP_COPY);
+  obs.rangeImage_forceResetExternalStorage();
+}
 
 /// The first `count` frames of `src`, each passed through edit(index, observation), written to
 /// `out`. An edit may return false to leave the frame out.
@@ -23,7 +35,7 @@ void writeEditedRawlog(const std::string& src, const std::string& out, size_t co
   for (size_t i = 0; i < count; ++i) {
     auto obs = reader.next();
     ASSERT_TRUE(obs) << src << " has fewer than " << count << " frames";
-    obs->load();
+    embedImages(*obs);
     if constexpr (std::is_same_v<decltype(edit(i, *obs)), bool>) {
       if (!edit(i, *obs)) continue;
     } else {
