@@ -14,7 +14,7 @@ start=$SECONDS
 bash scripts/build.sh
 built=$SECONDS
 
-# Left to scripts/test-long.sh (SLAMDUNK_LONG_TESTS=1): the 2.5-minute hand-held scans (7 GB of
+# Left to scripts/test-long.sh (SLAMDUNK_LONG_TESTS=1): the 2.5-minute hand-held scans (2 GB of
 # test data; CI runs their first 20 s, handheld_scan20s), and the readout learned from nothing on
 # the exact-depth twins (CI learns it on the Kinect-like ones, and runs both depths with the
 # calibrated readout).

@@ -61,6 +61,11 @@ int main(int argc, char** argv) {
         "store images in <OUT name>_Images/ beside the rawlog (colour PNG, depth as MRPT "
         "external matrices) instead of inside it",
         cmd);
+    TCLAP::ValueArg<int> argJpeg(
+        "", "jpeg-quality",
+        "with --external-images: colour as JPEG of quality Q (1-100) instead of lossless PNG "
+        "(a quarter of the disk and faster to read; the depth stays exact)",
+        false, 0, "Q", cmd);
     TCLAP::ValueArg<double> argNoise(
         "", "depth-noise",
         "standard deviation (metres) of Gaussian noise added to every valid depth (default 0 = "
@@ -116,6 +121,7 @@ int main(int argc, char** argv) {
     opts.depthNoiseSigma = argNoise.getValue();
     opts.kinectDepth = argKinect.getValue();
     opts.externalImages = argExternal.getValue();
+    opts.jpegQuality = argJpeg.getValue();
     opts.supersampling = argSupersampling.getValue();
     if (argHandHeld.getValue()) opts.enableHandHeldEffects();
     if (argExposure.isSet()) opts.exposureMs = argExposure.getValue();

@@ -3,7 +3,7 @@
 #   real recordings from the shared data folder and the project's own synthetic sequences.
 #   A missing recording is skipped with a message, or fails the preparation (naming the folder)
 #   under SLAMDUNK_REQUIRE_DATA=1, as in CI. SLAMDUNK_LONG_TESTS=1 (scripts/test-long.sh) also
-#   renders the whole 2.5-minute hand-held scan (7 GB); CI renders its first 20 s.
+#   renders the whole 2.5-minute hand-held scan (2 GB); CI renders its first 20 s.
 #   Usage: prepare-test-data.sh BIN_DIR DATA_DIR OUT
 set -euo pipefail
 bin=$1
@@ -65,21 +65,22 @@ start_job() {  # start_job COMMAND...
 
 # Hand-held motion through a hand-held camera (blur, rolling shutter, auto exposure, depth offset;
 # the exposure averages several renders, which also smooths edges: no supersampling needed).
-# The sequences keep their images beside the rawlog (a Kinect twin hard-links the colour PNGs
-# of its exact twin): the rawlog stays small enough to read quickly and the PNGs are not
-# compressed again. The sweep embeds its images: MRPT's own rawlog grabber (CCameraSensor),
-# which a test feeds it to, does not find external ones.
-# The whole 2.5-minute scan (4500 frames, about 5 minutes and 7 GB for the pair) only for the
+# The sequences keep their images beside the rawlog (a Kinect twin hard-links the colour images
+# of its exact twin), colour as JPEG of quality 95: a rendered image with noise and blur takes
+# 600 KB as PNG and 180 KB so, and the ground truth, the depth and the camera effects stay
+# exact. The sweep embeds its images: MRPT's own rawlog grabber (CCameraSensor), which a test
+# feeds it to, does not find external ones.
+# The whole 2.5-minute scan (4500 frames, about 5 minutes and 2 GB for the pair) only for the
 # long runs; CI's is its first 20 s (600 frames, a quarter of the first lap).
+handheld=(--hand-held --supersampling 1 --external-images --jpeg-quality 95)
 if [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ]; then
-  start_job synthetic_pair handheld_scan scan --hand-held --supersampling 1 --external-images
+  start_job synthetic_pair handheld_scan scan "${handheld[@]}"
 fi
 start_job convert 7scenes 7scenes/seq-1000f 7scenes.ini
-start_job synthetic_pair handheld_scan20s scan --first-frames 600 --hand-held --supersampling 1 \
-  --external-images
-start_job synthetic_pair handheld_rotations rotations --hand-held --supersampling 1 --external-images
-start_job synthetic_pair handheld_shake shake --hand-held --supersampling 1 --external-images
-start_job synthetic_pair synthetic_loop loop --external-images
+start_job synthetic_pair handheld_scan20s scan --first-frames 600 "${handheld[@]}"
+start_job synthetic_pair handheld_rotations rotations "${handheld[@]}"
+start_job synthetic_pair handheld_shake shake "${handheld[@]}"
+start_job synthetic_pair synthetic_loop loop --external-images --jpeg-quality 95
 start_job synthetic synthetic_sweep sweep
 start_job convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
 # The same hand at a third and a sixth of the frame rate: three and six times the motion between

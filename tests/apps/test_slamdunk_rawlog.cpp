@@ -510,7 +510,7 @@ INSTANTIATE_TEST_SUITE_P(Synthetic, HandHeldLearningTiming,
 // wide as a real Kinect's jitter needs (the velocity followed the errors of the map, keyframes
 // kept them, and the readout learned against the map followed), and the ATE was 7.3 mm instead of
 // 3.2. The prior's width now follows the motion model's measured error.
-// The whole 2.5-minute scan is scripts/test-long.sh's (7 GB of test data); CI runs its first
+// The whole 2.5-minute scan is scripts/test-long.sh's (2 GB of test data); CI runs its first
 // 20 s (handheld_scan20s).
 void expectScanLearnsItsCamerasReadout(const std::string& name, double readoutMs,
                                        double readoutTolerance, double maxAte) {

@@ -3,6 +3,7 @@
 // read, loaded (images embedded in the copy), passed through an edit, and written.
 
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/RgbdFrame.h>
 
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -14,17 +15,6 @@
 
 namespace slamdunk::test {
 
-/// Loads the frame's external images and marks them as its own: the copy must not point into the
-/// source's images folder under a name relative to the copy.
-inline void embedImages(mrpt::obs::CObservation3DRangeScan& obs) {
-  obs.load();
-  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored())
-    obs.intensityImage =
-        mrpt::img::CImage(obs.intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY),
-                          mrpt::img::DEEP_COPY);
-  obs.rangeImage_forceResetExternalStorage();
-}
-
 /// The first `count` frames of `src`, each passed through edit(index, observation), written to
 /// `out`. An edit may return false to leave the frame out.
 template <class Edit>
@@ -33,9 +23,9 @@ void writeEditedRawlog(const std::string& src, const std::string& out, size_t co
   mrpt::io::CFileGZOutputStream f(out);
   auto a = mrpt::serialization::archiveFrom(f);
   for (size_t i = 0; i < count; ++i) {
-    auto obs = reader.next();
-    ASSERT_TRUE(obs) << src << " has fewer than " << count << " frames";
-    embedImages(*obs);
+    auto next = reader.next();
+    ASSERT_TRUE(next) << src << " has fewer than " << count << " frames";
+    const auto obs = selfContainedCopy(*next);
     if constexpr (std::is_same_v<decltype(edit(i, *obs)), bool>) {
       if (!edit(i, *obs)) continue;
     } else {

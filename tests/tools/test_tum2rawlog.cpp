@@ -71,11 +71,10 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
     if (c == '/') c = '_';
   const std::string dir = test::scratchDir("Tum2Rawlog_" + safe);
   const std::string rawlog = dir + "/seq.rawlog";
-  const auto r = test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " +
-                                  quote(rawlog) + " --camera " + quote(cameraFor(name)) +
-                                  (external ? " --external-images" : "") +
-                                  (maxFrames ? " --max-frames " + std::to_string(maxFrames) : "") +
-                                  " -q");
+  const auto r = test::runCommand(
+      test::toolPath("tum2rawlog") + " " + quote(seq) + " " + quote(rawlog) + " --camera " +
+      quote(cameraFor(name)) + (external ? " --external-images" : "") +
+      (maxFrames ? " --max-frames " + std::to_string(maxFrames) : "") + " -q");
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   // Expected pairs: nearest depth stamp for each colour stamp (these sets have no ties).
@@ -153,16 +152,16 @@ INSTANTIATE_TEST_SUITE_P(AllSequences, Tum2RawlogOnRealData,
                          });
 
 TEST(Tum2Rawlog, SevenScenesOpensInRawlogEdit) {
-  SLAMDUNK_REQUIRE_DATA(seq, "7scenes/seq-1000f");
+  // The suite's own conversion (prepare-test-data.sh: tum2rawlog --external-images), not one
+  // more of the 1000 frames.
+  REQUIRE_RAWLOG(rawlog, "7scenes");
   if (test::runCommand("command -v rawlog-edit").exitCode != 0)
     SLAMDUNK_SKIP("rawlog-edit (package mrpt-apps) not installed");
-  const std::string dir = test::scratchDir("Tum2Rawlog_RawlogEdit");
-  auto r =
-      test::runCommand(test::toolPath("tum2rawlog") + " " + quote(seq) + " " + dir +
-                       "/7s.rawlog --external-images -q --camera " + quote(cameraFor("7scenes")));
-  ASSERT_EQ(r.exitCode, 0) << r.output;
   // rawlog-edit finds external images only from the rawlog's folder with a bare name.
-  r = test::runCommand("cd " + quote(dir) + " && rawlog-edit -i 7s.rawlog --info");
+  const fs::path path(rawlog);
+  const auto r =
+      test::runCommand("cd " + quote(path.parent_path().string()) + " && rawlog-edit -i " +
+                       quote(path.filename().string()) + " --info");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("Overall number of objects         : 1000"), std::string::npos)
       << r.output;

@@ -47,6 +47,21 @@ void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs) {
   if (obs.hasConfidenceImage) obs.confidenceImage.forceLoad();
 }
 
+std::shared_ptr<mrpt::obs::CObservation3DRangeScan> selfContainedCopy(
+    const mrpt::obs::CObservation3DRangeScan& obs) {
+  loadExternalImages(obs);
+  auto copy = std::make_shared<mrpt::obs::CObservation3DRangeScan>(obs);
+  // CImage copies share their pixels, and an externally stored one keeps its file name.
+  if (obs.hasIntensityImage)
+    copy->intensityImage =
+        mrpt::img::CImage(obs.intensityImage.asCvMatRef().clone(), mrpt::img::SHALLOW_COPY);
+  if (obs.hasConfidenceImage)
+    copy->confidenceImage =
+        mrpt::img::CImage(obs.confidenceImage.asCvMatRef().clone(), mrpt::img::SHALLOW_COPY);
+  copy->rangeImage_forceResetExternalStorage();
+  return copy;
+}
+
 RgbdFrame::RgbdFrame(double timestamp, cv::Mat grey, cv::Mat depthMetres,
                      CameraIntrinsics intrinsics, cv::Mat colour)
     : timestamp_(timestamp),

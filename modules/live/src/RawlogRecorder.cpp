@@ -1,5 +1,7 @@
 #include <slamdunk/live/RawlogRecorder.h>
 
+#include <slamdunk/core/RgbdFrame.h>
+
 #include <mrpt/serialization/CArchive.h>
 
 #include <opencv2/core.hpp>
@@ -29,14 +31,9 @@ void RawlogRecorder::add(const mrpt::obs::CObservation3DRangeScan& frame) {
       return;
     }
   }
-  // Deep copies: the tracker reads the original concurrently, and a frame replayed from a
-  // rawlog with external images must be embedded to make the recording self-contained.
-  auto copy = std::make_shared<mrpt::obs::CObservation3DRangeScan>(frame);
-  if (frame.hasIntensityImage)
-    copy->intensityImage =
-        mrpt::img::CImage(frame.intensityImage.asCvMatRef().clone(), mrpt::img::SHALLOW_COPY);
-  copy->rangeImage = frame.rangeImage;
-  copy->rangeImage_forceResetExternalStorage();
+  // The tracker reads the original concurrently, and a frame replayed from a rawlog with
+  // external images must be embedded to make the recording self-contained.
+  auto copy = selfContainedCopy(frame);
   {
     std::lock_guard lock(mutex_);
     backlog_.push_back(std::move(copy));

@@ -91,6 +91,13 @@ void SyntheticOptions::validate() const {
   if (frames < 0 || frames == 1)
     throw std::invalid_argument("frames must be 0 (trajectory default) or at least 2, not " +
                                 std::to_string(frames));
+  if (jpegQuality < 0 || jpegQuality > 100)
+    throw std::invalid_argument("JPEG quality must be 0 (colour as PNG) or in [1, 100], not " +
+                                std::to_string(jpegQuality));
+  if (jpegQuality > 0 && !externalImages)
+    throw std::invalid_argument(
+        "a JPEG quality needs external images (the rawlog embeds colour "
+        "as MRPT serializes it)");
   if (firstFrames < 0 || firstFrames == 1)
     throw std::invalid_argument("first frames must be 0 (all) or at least 2, not " +
                                 std::to_string(firstFrames));
@@ -329,7 +336,9 @@ namespace {
 /// One output rawlog, and its images folder with external images; replaced only by commit().
 class SyntheticRawlogWriter {
  public:
-  SyntheticRawlogWriter(const std::string& rawlogPath, bool externalImages) : out_(rawlogPath) {
+  /// jpegQuality: with external images, colour as JPEG of that quality; 0 = PNG.
+  SyntheticRawlogWriter(const std::string& rawlogPath, bool externalImages, int jpegQuality)
+      : out_(rawlogPath), jpegQuality_(jpegQuality) {
     if (externalImages) {
       imagesFolder_ = RawlogReader::imagesDirectoryFor(rawlogPath);
       images_ = std::make_unique<AtomicOutputFolder>(imagesFolder_);
@@ -340,24 +349,29 @@ class SyntheticRawlogWriter {
 
   const std::string& imagesFolder() const { return imagesFolder_; }
 
-  /// Appends frame i. With external images, a colour PNG another writer already made of the
-  /// same image (colourPng) is hard-linked (copied where the folder cannot link), not encoded
-  /// again: a Kinect twin's colour takes no second copy on disk. Returns this writer's PNG.
+  /// Appends frame i. With external images, a colour image another writer already made of the
+  /// same image (colourFile) is hard-linked (copied where the folder cannot link), not encoded
+  /// again: a Kinect twin's colour takes no second copy on disk. Returns this writer's colour
+  /// file.
   std::string write(mrpt::obs::CObservation3DRangeScan& obs, size_t i,
-                    const std::string& colourPng = {}) {
+                    const std::string& colourFile = {}) {
     std::string rgbFile;
     if (images_) {
-      // Same layout as tum2rawlog: colour as PNG (lossless), depth as MRPT's external matrix
-      // (raw 16-bit values), names relative to the images folder.
+      // Same layout as tum2rawlog: colour as PNG (lossless) or JPEG, depth as MRPT's external
+      // matrix (raw 16-bit values), names relative to the images folder.
       char name[64];
-      std::snprintf(name, sizeof(name), "%06zu_rgb.png", i);
+      std::snprintf(name, sizeof(name), "%06zu_rgb.%s", i, jpegQuality_ > 0 ? "jpg" : "png");
       rgbFile = (fs::path(images_->tempPath()) / name).string();
-      std::error_code linkError;
-      if (!colourPng.empty()) fs::create_hard_link(colourPng, rgbFile, linkError);
-      if (!colourPng.empty() && linkError)
-        fs::copy_file(colourPng, rgbFile);
-      else if (!cv::imwrite(rgbFile, obs.intensityImage.asCvMatRef()))
-        throw std::runtime_error("cannot write image '" + rgbFile + "'");
+      if (colourFile.empty()) {
+        std::vector<int> params;
+        if (jpegQuality_ > 0) params = {cv::IMWRITE_JPEG_QUALITY, jpegQuality_};
+        if (!cv::imwrite(rgbFile, obs.intensityImage.asCvMatRef(), params))
+          throw std::runtime_error("cannot write image '" + rgbFile + "'");
+      } else {
+        std::error_code linkError;
+        fs::create_hard_link(colourFile, rgbFile, linkError);
+        if (linkError) fs::copy_file(colourFile, rgbFile);
+      }
       obs.intensityImage.setExternalStorage(name);
       std::snprintf(name, sizeof(name), "%06zu_depth.bin", i);
       obs.rangeImage_convertToExternalStorage(name, images_->tempPath() + "/");
@@ -375,6 +389,7 @@ class SyntheticRawlogWriter {
 
  private:
   AtomicOutput out_;
+  int jpegQuality_;
   std::unique_ptr<AtomicOutputFolder> images_;
   std::string imagesFolder_;
   mrpt::io::CFileGZOutputStream file_;
@@ -417,11 +432,11 @@ SyntheticSequenceSummary writeSyntheticSequence(const SyntheticOptions& options,
   sum.scene = seq.scene().plan().name;
   sum.stats = SyntheticTrajectory::stats(seq.groundTruth());
 
-  SyntheticRawlogWriter writer(rawlogPath, options.externalImages);
+  SyntheticRawlogWriter writer(rawlogPath, options.externalImages, options.jpegQuality);
   std::unique_ptr<SyntheticRawlogWriter> twinWriter;
   if (twin)
-    twinWriter =
-        std::make_unique<SyntheticRawlogWriter>(kinectTwinRawlogPath, options.externalImages);
+    twinWriter = std::make_unique<SyntheticRawlogWriter>(
+        kinectTwinRawlogPath, options.externalImages, options.jpegQuality);
   sum.imagesFolder = writer.imagesFolder();
   for (size_t i = 0; i < seq.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();

@@ -4,6 +4,7 @@
 #include <slamdunk/core/CameraIntrinsics.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
 
@@ -29,6 +30,13 @@ float interpolatedDepth(const cv::Mat& depth, double u, double v);
 /// Readers and grabbers call this so the decoding stays theirs. Throws like MRPT when a file
 /// is missing or unreadable.
 void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs);
+
+/// A deep copy of `obs` that holds its images itself: loaded (see loadExternalImages) and no
+/// longer pointing into an images folder, whose names are relative to the source's rawlog and
+/// mean nothing beside a copy written elsewhere (a recording, an edited rawlog). The copy shares
+/// no pixel buffer with `obs`, which another thread may go on reading.
+std::shared_ptr<mrpt::obs::CObservation3DRangeScan> selfContainedCopy(
+    const mrpt::obs::CObservation3DRangeScan& obs);
 
 class RgbdFrame {
  public:

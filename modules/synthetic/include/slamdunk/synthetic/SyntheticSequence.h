@@ -51,7 +51,9 @@ struct SyntheticOptions {
   /// two; with blur, supersampling 1 is usually enough: the renders average anyway).
   int motionSamples = 0;
   bool externalImages = false;  ///< writeSyntheticSequence: images in <name>_Images/
-  int supersampling = 3;        ///< colour anti-aliasing factor (odd), see SyntheticRenderer
+  /// With externalImages: colour as JPEG of this quality (1-100) instead of PNG (0, lossless).
+  int jpegQuality = 0;
+  int supersampling = 3;  ///< colour anti-aliasing factor (odd), see SyntheticRenderer
   bool ceiling = true;
 
   CameraIntrinsics intrinsics() const;        ///< the rendering's (the true camera)
