@@ -5,12 +5,15 @@
 #include <slamdunk/core/TumTrajectory.h>
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 #include <TestData.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
@@ -109,6 +112,53 @@ TEST(SyntheticRgbdTool, KinectTwinIsTheKinectDepthSequence) {
   EXPECT_NE(r.output.find("name the same file"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/k2.rawlog"));
   EXPECT_FALSE(fs::exists(dir + "/k3.rawlog"));
+}
+
+// --jpeg-quality: colour as JPEG beside the rawlog (the twin hard-links the same files), close
+// to the lossless render; the depth is the exact depth PNG output's, byte for byte.
+TEST(SyntheticRgbdTool, JpegColourStaysCloseToTheLosslessRender) {
+  const std::string dir = test::scratchDir("synthetic_tool_jpeg");
+  const std::string tool = test::toolPath("synthetic-rgbd");
+  const std::string common =
+      " --trajectory shake --frames 4 --hand-held --supersampling 1 "
+      "--external-images -q";
+  auto r = test::runCommand(tool + " " + dir + "/png.rawlog" + common);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = test::runCommand(tool + " " + dir + "/jpg.rawlog --kinect-twin " + dir + "/twin.rawlog" +
+                       common + " --jpeg-quality 95");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  // One reader after the other: MRPT resolves external image names against one folder per
+  // process, the last reader's.
+  auto framesOf = [](const std::string& rawlog) {
+    RawlogReader reader(rawlog);
+    std::vector<RgbdFrame> frames;
+    while (auto obs = reader.next()) frames.push_back(RgbdFrame::fromObservation(*obs));
+    return frames;
+  };
+  const auto lossless = framesOf(dir + "/png.rawlog"), lossy = framesOf(dir + "/jpg.rawlog");
+  ASSERT_EQ(lossless.size(), 4u);
+  ASSERT_EQ(lossy.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    EXPECT_EQ(cv::norm(lossless[i].depth(), lossy[i].depth(), cv::NORM_INF), 0.0);
+    const double meanError = cv::norm(lossless[i].grey(), lossy[i].grey(), cv::NORM_L1) /
+                             static_cast<double>(lossless[i].grey().total());
+    EXPECT_GT(meanError, 0.0);  // lossy indeed
+    EXPECT_LT(meanError, 1.8);  // grey levels; quality 95 measured 0.58-0.93
+    char name[32];
+    std::snprintf(name, sizeof(name), "/%06zu_rgb.jpg", i);
+    EXPECT_TRUE(fs::exists(dir + "/jpg_Images" + name));
+    EXPECT_EQ(fs::hard_link_count(dir + "/jpg_Images" + name), 2u);  // the twin's is the same file
+    EXPECT_TRUE(fs::exists(dir + "/twin_Images" + name));
+  }
+
+  r = test::runCommand(tool + " " + dir + "/bad.rawlog" + common + " --jpeg-quality 101");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("JPEG quality must be"), std::string::npos) << r.output;
+  r = test::runCommand(tool + " " + dir + "/bad.rawlog --frames 3 -q --jpeg-quality 90");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("needs external images"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/bad.rawlog"));
 }
 
 TEST(SyntheticRgbdTool, BadOptionFailsClearlyAndKeepsExistingFiles) {
