@@ -111,8 +111,17 @@ TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
   EXPECT_EQ(live.value("frames_processed") + live.value("frames_dropped"), 1000)
       << live.result.output;
 #else
-  EXPECT_EQ(live.value("frames_dropped"), 0) << live.result.output;
-  EXPECT_EQ(live.value("frames_processed"), 1000) << live.result.output;
+  // No drop, unless the machine starved the whole process: then the replay thread itself,
+  // which only sleeps and reads, was late by more than three frame periods (a shared CI machine
+  // did that once, a 105 ms gap and 1 frame dropped), and at most 2 frames may go. A pipeline
+  // that falls behind on its own drops with the source on time, and fails here.
+  const double dropped = live.value("frames_dropped");
+  const bool sourceStarved = live.value("source_gap_ms_max") > 3 * 1000.0 / 30;
+  if (dropped > 0 && sourceStarved)
+    std::printf("the process was starved (the source was %.0f ms late): %g frame(s) dropped\n",
+                live.value("source_gap_ms_max"), dropped);
+  EXPECT_LE(dropped, sourceStarved ? 2 : 0) << live.result.output;
+  EXPECT_EQ(live.value("frames_processed") + dropped, 1000) << live.result.output;
   // Live, the optimizer runs beside tracking, so which frames are tracked before and after
   // each optimization changes from run to run: 12 runs at 1x gave 0.0347-0.0380 m against the
   // offline 0.0341 m (median +6 %, at most +11 %), about the spread the offline run shows
