@@ -2,7 +2,7 @@
 # The long runs CI leaves out (about 2-3 hours on 2 cores); run them before every update of the
 # README's results tables and after any change to the viewer, the live pipeline or the readers:
 #   1. the whole Release suite, the 2.5-minute hand-held scans included (SLAMDUNK_LONG_TESTS=1
-#      renders them: 7 GB in build/test-data);
+#      renders them: about 2 GB more in build/test-data);
 #   2. the whole suite under ASan + UBSan (scripts/sanitize.sh --all);
 #   3. every GUI and live-viewer test 50 times in a row beside two busy loops
 #      (scripts/repeat-gui-tests.sh);
