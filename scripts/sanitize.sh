@@ -63,7 +63,8 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 # the optimizer, the keyframe graph, the live pipeline's threads and checkpoints, and the
 # viewer's windows opened and closed; only their targets are built (the whole tree under the
 # sanitizers took 21 minutes of a CI run). `--all` builds and runs every test.
-ci_test_dirs="core;tracking;optimization;graph;slam;fuzz;live;live-viewer"
+source scripts/lib/test-subsets.sh
+ci_test_dirs=$sanitized_test_dirs
 ci_targets=(test_core test_tracking test_local_optimizer test_keyframe_graph test_slam_options
   fuzz-readers test_live_module test_viewer)
 # Left out of the subset's binaries: whole sequences through SLAM (minutes each here, 10-45 times

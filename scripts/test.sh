@@ -1,17 +1,26 @@
 #!/usr/bin/env bash
 # The test suite CI runs (.ci/run, with SLAMDUNK_REQUIRE_DATA=1): installs the dependencies,
-# builds ./build (Release), runs the suite with ctest, then a subset under AddressSanitizer +
-# UndefinedBehaviorSanitizer (scripts/sanitize.sh, ./build-asan). Within 25 minutes on 2 cores;
-# the long runs it leaves out are scripts/test-long.sh's.
+# builds ./build (Release), runs the suite with ctest, then a subset under AddressSanitizer
+# (scripts/sanitize.sh, ./build-asan). The unit tests of the readers, the tracker, the optimizer,
+# the keyframe graph and the options, and the fuzzers' fixed inputs, run there only
+# (scripts/lib/test-subsets.sh). Within 25 minutes on 2 cores; the long runs it leaves out are
+# scripts/test-long.sh's.
 # Real recordings are taken from ../shared/data (override with SLAMDUNK_DATA_DIR). Where they,
 # a tool or an X server are missing, tests skip with a message, or fail under
 # SLAMDUNK_REQUIRE_DATA=1.
 #   scripts/test.sh [CTEST_ARGS...]       (e.g. -R SlamdunkLive: both runs take the arguments)
-#   SLAMDUNK_SKIP_SANITIZERS=1 scripts/test.sh   (the Release suite only: a developer's quick run)
+#   SLAMDUNK_SKIP_SANITIZERS=1 scripts/test.sh   (every test in Release, none under the
+#                                                 sanitizers: a developer's quick run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/test-subsets.sh
 start=$SECONDS
-bash scripts/build.sh
+# The folders whose every test runs under the sanitizers below are built and run there only.
+if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ]; then
+  SLAMDUNK_SKIP_TEST_DIRS="" bash scripts/build.sh
+else
+  SLAMDUNK_SKIP_TEST_DIRS="$sanitized_only_test_dirs" bash scripts/build.sh
+fi
 built=$SECONDS
 
 # Left to scripts/test-long.sh (SLAMDUNK_LONG_TESTS=1): the 2.5-minute hand-held scans (2 GB of
@@ -29,12 +38,12 @@ long_runs=(
   # slamdunk-rawlog's optimizer thread on the whole of 7-Scenes (CI: on the synthetic loop, and
   # on 7-Scenes through the live replay, whose optimizer always runs beside tracking).
   'SlamdunkRawlogThreads\.OptimizerThreadKeepsTheAccuracyBoundsOnSevenScenes$'
+  # The optimizer's time on realistic local problems: a benchmark's figures, printed (its one
+  # bound, a map error under 5 cm, is loose; the other LocalOptimizer tests assert accuracy).
+  'LocalOptimizer\.TimingOnRealisticLocalProblems$'
 )
 subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
 [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && subset=()
-# The fuzzers' fixed inputs run again under the sanitizers below, which also catch what a
-# Release run would not see: there they run once.
-[ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ] || subset+=(-LE fuzz)
 ctest --test-dir build --output-on-failure -j"$(nproc)" "${subset[@]}" "$@"
 tested=$SECONDS
 echo "test.sh: Release build $((built - start)) s, suite $((tested - built)) s"

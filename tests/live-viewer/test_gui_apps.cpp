@@ -88,11 +88,16 @@ ScreenContent waitForContent(const test::VirtualDisplay& display, const std::str
   return c;
 }
 
+/// The offline app's runs here take the synthetic loop's first 150 frames (its first turn, 13
+/// keyframes): what the window shows and the keys do does not need the whole loop, and beside
+/// busy loops (scripts/repeat-gui-tests.sh) every keyframe costs the starved window thread.
+const std::string kFrames = "150";
+
 /// A reference trajectory of the offline app, without the viewer.
 std::string referenceRun(const std::string& rawlog, const std::string& dir) {
   const std::string t = dir + "/reference.txt";
-  const auto r =
-      test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " -t " + q(t) + " -q");
+  const auto r = test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " -t " +
+                                  q(t) + " --max-frames " + kFrames + " -q");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   return readFile(t);
 }
@@ -134,7 +139,7 @@ TEST(GuiApps, RawlogGuiShowsTheMapAndLeavesTheResultsUnchanged) {
 
   const std::string log = dir + "/app.log";
   test::ChildProcess app({test::toolPath("slamdunk-rawlog"), rawlog, "-t", dir + "/gui.txt",
-                          "--gui", "--gui-wait", "--json"},
+                          "--max-frames", kFrames, "--gui", "--gui-wait", "--json"},
                          {"DISPLAY=" + display.name()}, log);
   ASSERT_TRUE(app.started());
   const std::string title = "SlamDunk - synthetic_loop.rawlog";
@@ -167,9 +172,9 @@ TEST(GuiApps, RawlogKeysPauseAndStepAndTheResultsStayTheSame) {
   const std::string reference = referenceRun(rawlog, dir);
 
   const std::string log = dir + "/app.log";
-  test::ChildProcess app(
-      {test::toolPath("slamdunk-rawlog"), rawlog, "-t", dir + "/keys.txt", "--gui", "--gui-paused"},
-      {"DISPLAY=" + display.name()}, log);
+  test::ChildProcess app({test::toolPath("slamdunk-rawlog"), rawlog, "-t", dir + "/keys.txt",
+                          "--max-frames", kFrames, "--gui", "--gui-paused"},
+                         {"DISPLAY=" + display.name()}, log);
   const std::string title = "SlamDunk - synthetic_loop.rawlog";
   ASSERT_TRUE(display.waitForWindow(title, kWindowThreadSeconds)) << "no viewer window:\n"
                                                                   << readFile(log);

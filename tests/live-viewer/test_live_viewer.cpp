@@ -410,7 +410,7 @@ namespace {
   std::atomic<bool> busy{false}, done{false};
   other.sendFunctionToRunOnGUIThread([&] {
     busy = true;
-    std::this_thread::sleep_for(25s);  // beyond the old deadlines (10 s, then 5 s)
+    std::this_thread::sleep_for(16s);  // beyond the old deadlines (10 s, then 5 s)
     done = true;
   });
   // The thread draws at the idle priority: beside busy loops on every core it may take minutes

@@ -398,7 +398,9 @@ TEST(SlamdunkLive, SigkillMidwayLosesAtMostOneCheckpointInterval) {
   ASSERT_GE(traj.size(), fewestFrames);
   EXPECT_NEAR(traj.back().timestamp, info.lastFrameTimestamp, 1e-6);
   // It covers the frames up to the last checkpoint: from the first frame on, in order, each a
-  // frame of the recording, and (Release: none dropped, none lost) all of them.
+  // frame of the recording, and every frame processed (7-Scenes loses none). Frames the replay
+  // dropped while tracking was behind are not in it: a machine busy with other work drops a
+  // few (2 of 235 beside two busy loops), which is SlamdunkLive.RealTimeReplay...'s concern.
   // (Trajectory files keep timestamps to the microsecond.)
   const std::vector<double> stamps = frameTimestamps(rawlog);
   EXPECT_NEAR(traj.front().timestamp, stamps.front(), 1e-6);
@@ -409,9 +411,12 @@ TEST(SlamdunkLive, SigkillMidwayLosesAtMostOneCheckpointInterval) {
     ASSERT_TRUE(next != stamps.end() && std::abs(*next - traj[i].timestamp) < 1e-6) << i;
     if (i > 0) ASSERT_GT(traj[i].timestamp, traj[i - 1].timestamp) << i;
   }
-#ifndef SLAMDUNK_SANITIZED
-  EXPECT_EQ(traj.size(), upToLast);
+#ifndef SLAMDUNK_SANITIZED  // at 7-9 frames/s the replay drops most frames: the rest are far apart
+  EXPECT_EQ(info.framesTracked, info.framesProcessed);
 #endif
+  EXPECT_LE(info.framesProcessed, upToLast);
+  std::printf("checkpoint: %zu of the recording's first %zu frames processed\n",
+              info.framesProcessed, upToLast);
 
   // --load-map on the checkpoint resumes mapping: the frames after it relocalize at once and
   // continue the checkpoint's trajectory in its world.
