@@ -62,9 +62,9 @@ TEST_P(Tum2RawlogOnRealData, ReadBackMatchesSource) {
   const std::string name = GetParam();
   SLAMDUNK_REQUIRE_DATA(seq, name);
   const bool external = name.rfind("7scenes", 0) == 0;  // also exercises external storage
-  // 7-Scenes' first 200 frames: the read-back registers every depth image again. The SLAM
+  // 7-Scenes' first 100 frames: the read-back registers every depth image again. The SLAM
   // tests run on the whole conversion (prepare-test-data.sh).
-  const size_t maxFrames = external ? 200 : 0;
+  const size_t maxFrames = external ? 100 : 0;
   const double factor = external ? 1000.0 : 5000.0;
   std::string safe = name;
   for (char& c : safe)
