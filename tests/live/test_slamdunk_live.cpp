@@ -160,11 +160,22 @@ TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
   // test); the Release suite checks drops and accuracy.
   std::printf("sanitizer build: drops and ATE not checked\n");
 #else
-  // 60 frames/s asks for about all this machine's tracker gives: measured 47, 84 and 106
-  // dropped on the idle machine (3 runs: up to 11 %), 462-544 beside two busy loops on its two
-  // cores (the test runs alone in CI, RUN_SERIAL). None lost in any run. ATE 0.0338-0.0375 m
-  // idle, 0.0387-0.0419 m beside the busy loops (the offline run: 0.0341 m).
-  EXPECT_LE(live.value("frames_dropped"), 250) << "more than 25 % dropped:\n" << live.result.output;
+  // 60 frames/s asks for about all this machine's tracker gives, so how many frames drop
+  // follows the machine's speed: measured 47, 84 and 106 dropped on the idle machine (3 runs: up
+  // to 11 %), 304 in a slow hour of a CI run (tracking at 20.4 ms median instead of about 12),
+  // 462-544 beside two busy loops on its two cores (the test runs alone in CI, RUN_SERIAL). What
+  // the pipeline must do whatever the machine: process frames as fast as its tracker can, up to
+  // the 60 frames/s sent. Measured 85 % and 87 % of that in the slow hour (237 and 304
+  // dropped); a 50 ms stall before each frame's tracking, a deliberate break, gave 26 %. None lost
+  // in any run. ATE 0.0338-0.0375 m idle, 0.0380 m in the slow hour, 0.0387-0.0419 m beside the
+  // busy loops (offline: 0.0341 m).
+  const double trackerFps = 1000.0 / live.value("ms_tracking_median");
+  const double expectedFps = std::min(60.0, trackerFps);
+  std::printf("tracker alone: %.1f frames/s (median); processed %.0f %% of min(60, that)\n",
+              trackerFps, 100 * live.value("fps_processed") / expectedFps);
+  EXPECT_GE(live.value("fps_processed"), 0.75 * expectedFps)
+      << "frames dropped that the tracker had time for:\n"
+      << live.result.output;
   EXPECT_EQ(live.value("lost"), 0) << live.result.output;
   EXPECT_LE(live.value("ate_rmse_m"), 0.05) << live.result.output;
 #endif
