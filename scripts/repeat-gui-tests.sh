@@ -4,8 +4,12 @@
 # which starve the idle-priority window threads as a loaded CI machine does: a failure that
 # shows once in a few whole suites shows here. Stops at the first failing repeat and says how
 # many repeats passed before it; exit 0 only if all N passed.
+# The tests of a repeat run all at once (each with its own Xvfb), so that they also load one
+# another: a repeat takes about two minutes beside two busy loops on 2 cores, where one test
+# after the other took about fifteen (the idle-priority window threads wait for CPU, not for
+# one another).
 #   scripts/repeat-gui-tests.sh N [BUSY_LOOPS]
-#   JOBS=2 scripts/repeat-gui-tests.sh 5     (ctest -j2: two tests at once, each with its Xvfb)
+#   JOBS=1 scripts/repeat-gui-tests.sh 5     (ctest -j1: one test at a time)
 #   EXCLUDE='^MrptViewers\.' scripts/repeat-gui-tests.sh 5   (ctest -E: leave some tests out)
 # Needs the Release tree (scripts/build.sh). The test data (ctest's prepare_test_data fixture)
 # is prepared once before the busy loops start. A test that would skip (no data, no X server,
@@ -24,7 +28,6 @@ build=${BUILD_DIR:-build}
   exit 1
 }
 export SLAMDUNK_REQUIRE_DATA=${SLAMDUNK_REQUIRE_DATA:-1}
-jobs=${JOBS:-1}
 exclude=()
 [ -n "${EXCLUDE:-}" ] && exclude=(-E "$EXCLUDE")
 
@@ -35,7 +38,10 @@ if ! printf '%s\n' "$tests" | grep -q '^GuiApps\.'; then
   echo "repeat-gui-tests: no GuiApps.* test under the label 'viewers' in $build" >&2
   exit 1
 fi
-echo "repeat-gui-tests: $count tests (label viewers), $repeats repeats beside $busy busy loops"
+jobs=${JOBS:-$count}
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || usage
+echo "repeat-gui-tests: $count tests (label viewers), $repeats repeats beside $busy busy loops," \
+  "$jobs at a time"
 
 # The data first, without the busy loops; the repeats then leave the fixture out (-FA).
 ctest --test-dir "$build" -R '^prepare_test_data$' --output-on-failure >/dev/null || {

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The long runs CI leaves out (about 2-3 hours on 2 cores); run them before every update of the
+# The long runs CI leaves out (about four hours on 2 cores); run them before every update of the
 # README's results tables and after any change to the viewer, the live pipeline or the readers:
 #   1. the whole Release suite, the 2.5-minute hand-held scans included (SLAMDUNK_LONG_TESTS=1
 #      renders them: about 2 GB more in build/test-data);
 #   2. the whole suite under ASan + UBSan (scripts/sanitize.sh --all);
-#   3. every GUI and live-viewer test 50 times in a row beside two busy loops
-#      (scripts/repeat-gui-tests.sh);
+#   3. every GUI and live-viewer test 50 times in a row beside two busy loops, all of a repeat
+#      at once (scripts/repeat-gui-tests.sh: about an hour and a half);
 #   4. 10000 fuzzed inputs per reader (scripts/fuzz.sh) and a 30-minute soak (scripts/soak.sh).
 # Missing data fails here as in CI (SLAMDUNK_REQUIRE_DATA=1).
 #   scripts/test-long.sh             all four

@@ -407,6 +407,15 @@ namespace {
   setenv("DISPLAY", display.c_str(), 1);  // in the child only: the test's process keeps its own
   auto viewer = std::make_unique<LiveViewer>(std::make_shared<KeyframeGraph>());
   mrpt::gui::CDisplayWindow3D other("another window", 160, 120);
+  // MRPT's constructor stops waiting for the window after 6 s, and a window not made yet drops
+  // the function sent to it without a word: waited for as long as the viewer would wait.
+  const auto end = std::chrono::steady_clock::now() + 300s;
+  while (!other.isOpen() && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(10ms);
+  if (!other.isOpen()) {
+    std::fprintf(stderr, "the window thread never opened the other window\n");
+    std::_Exit(3);
+  }
   std::atomic<bool> busy{false}, done{false};
   other.sendFunctionToRunOnGUIThread([&] {
     busy = true;
@@ -415,8 +424,9 @@ namespace {
   });
   // The thread draws at the idle priority: beside busy loops on every core it may take minutes
   // to come to the function (as long as the viewer would wait for it, 300 s).
-  const auto end = std::chrono::steady_clock::now() + 300s;
-  while (!busy && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(10ms);
+  const auto start = std::chrono::steady_clock::now();
+  while (!busy && std::chrono::steady_clock::now() < start + 300s)
+    std::this_thread::sleep_for(10ms);
   if (!busy) {
     std::fprintf(stderr, "the window thread never ran the other window's function\n");
     std::_Exit(2);
