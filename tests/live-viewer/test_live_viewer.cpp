@@ -35,15 +35,21 @@ using namespace std::chrono_literals;
 // ------------------------------------------------------------------ pause and step
 
 namespace {
-/// Polls `done()` until it holds or 30 s (a deadline only a hang reaches); false on timeout.
+/// Polls `done()` until it holds or `limit` passes; false on timeout.
 template <class Done>
-bool within30s(Done done) {
-  const auto end = std::chrono::steady_clock::now() + 30s;
+bool within(std::chrono::seconds limit, Done done) {
+  const auto end = std::chrono::steady_clock::now() + limit;
   while (!done()) {
     if (std::chrono::steady_clock::now() > end) return false;
     std::this_thread::sleep_for(1ms);
   }
   return true;
+}
+
+/// within() a deadline only a hang reaches.
+template <class Done>
+bool within30s(Done done) {
+  return within(30s, done);
 }
 
 /// One frame's waitForTurn(), on a thread of its own. No check passes by a wait running out:
@@ -409,10 +415,7 @@ namespace {
   mrpt::gui::CDisplayWindow3D other("another window", 160, 120);
   // MRPT's constructor stops waiting for the window after 6 s, and a window not made yet drops
   // the function sent to it without a word: waited for as long as the viewer would wait.
-  const auto end = std::chrono::steady_clock::now() + 300s;
-  while (!other.isOpen() && std::chrono::steady_clock::now() < end)
-    std::this_thread::sleep_for(10ms);
-  if (!other.isOpen()) {
+  if (!within(300s, [&] { return other.isOpen(); })) {
     std::fprintf(stderr, "the window thread never opened the other window\n");
     std::_Exit(3);
   }
@@ -424,10 +427,7 @@ namespace {
   });
   // The thread draws at the idle priority: beside busy loops on every core it may take minutes
   // to come to the function (as long as the viewer would wait for it, 300 s).
-  const auto start = std::chrono::steady_clock::now();
-  while (!busy && std::chrono::steady_clock::now() < start + 300s)
-    std::this_thread::sleep_for(10ms);
-  if (!busy) {
+  if (!within(300s, [&] { return busy.load(); })) {
     std::fprintf(stderr, "the window thread never ran the other window's function\n");
     std::_Exit(2);
   }
