@@ -50,37 +50,35 @@ std::string toString(ResidualForm form) {
   return "?";
 }
 
+namespace {
+template <class Self, class Keys>
+void forEachKey(Self& o, Keys& k) {
+  k("rings", o.rings);
+  k.choice("robust_loss", o.robustLoss, robustLossFromString);
+  k("robust_loss_scale", o.robustLossScale);
+  k("max_iterations", o.maxIterations);
+  k("function_tolerance", o.functionTolerance);
+  k("num_threads", o.numThreads);
+  k("min_weight", o.minWeight);
+  k("max_solver_time_ms", o.maxSolverTimeMs);
+  k.choice("residual_form", o.residualForm, residualFormFromString);
+  k("irls_max_rounds", o.irlsMaxRounds);
+  k("landmark_loss_scale", o.landmarkLossScale);
+}
+}  // namespace
+
 void LocalOptimizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& section) {
   IniSectionReader r(cfg, section);
-  rings = r.readInt("rings", rings);
-  robustLoss = robustLossFromString(r.readString("robust_loss", toString(robustLoss)));
-  robustLossScale = r.readDouble("robust_loss_scale", robustLossScale);
-  maxIterations = r.readInt("max_iterations", maxIterations);
-  functionTolerance = r.readDouble("function_tolerance", functionTolerance);
-  numThreads = r.readInt("num_threads", numThreads);
-  minWeight = r.readDouble("min_weight", minWeight);
-  maxSolverTimeMs = r.readDouble("max_solver_time_ms", maxSolverTimeMs);
-  residualForm = residualFormFromString(r.readString("residual_form", toString(residualForm)));
-  irlsMaxRounds = r.readInt("irls_max_rounds", irlsMaxRounds);
-  landmarkLossScale = r.readDouble("landmark_loss_scale", landmarkLossScale);
+  forEachKey(*this, r);
   r.rejectUnknownKeys();
   validate(section);
 }
 
 void LocalOptimizerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                              const std::string& section) const {
-  cfg.write(section, "rings", rings);
-  cfg.write(section, "robust_loss", toString(robustLoss));
-  cfg.write(section, "robust_loss_scale", robustLossScale);
-  cfg.write(section, "max_iterations", maxIterations);
-  cfg.write(section, "function_tolerance", functionTolerance);
-  cfg.write(section, "num_threads", numThreads);
-  cfg.write(section, "min_weight", minWeight);
-  cfg.write(section, "max_solver_time_ms", maxSolverTimeMs);
-  cfg.write(section, "residual_form", toString(residualForm));
-  cfg.write(section, "irls_max_rounds", irlsMaxRounds);
-  cfg.write(section, "landmark_loss_scale", landmarkLossScale);
+  IniSectionWriter w(cfg, section);
+  forEachKey(*this, w);
 }
 
 void LocalOptimizerOptions::validate(const std::string& section) const {

@@ -10,19 +10,11 @@ namespace slamdunk {
 SlamSystem::SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph> graph)
     : options_(options),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
-      tracker_(options.tracker, options.features, graph_) {
-  if (options_.localOptimization && options_.optimizerThread)
-    optimizerThread_ = std::thread([this] { optimizerLoop(); });
-}
+      tracker_(options.tracker, options.features, graph_),
+      optimization_(options.optimizer, graph_, options.localOptimization && options.optimizerThread,
+                    [this] { tracker_.notifyMapChanged(); }) {}
 
-SlamSystem::~SlamSystem() {
-  {
-    std::lock_guard lock(jobMutex_);
-    stopping_ = true;
-  }
-  jobCv_.notify_all();
-  if (optimizerThread_.joinable()) optimizerThread_.join();
-}
+SlamSystem::~SlamSystem() = default;
 
 std::optional<TrackingResult> SlamSystem::outOfOrder(double timestamp) {
   const size_t index = framesGiven_++;
@@ -113,76 +105,16 @@ TrackingResult SlamSystem::track(const RgbdFrame& frame) {
     if (r.newKeyframe) ++stats_.keyframes;
     if (r.loopClosure) ++stats_.loopClosures;
   }
-  if (r.newKeyframe && options_.localOptimization && graph_->keyframeCount() > 1) {
-    if (optimizerThread_.joinable()) {
-      // Latest keyframe wins: a backlog is collapsed into one optimization around the newest.
-      {
-        std::lock_guard lock(jobMutex_);
-        jobPending_ = true;
-        jobRoot_ = r.keyframeId;
-        jobNoise_ = tracker_.noiseModel();
-      }
-      jobCv_.notify_all();
-    } else {
-      optimizeAround(r.keyframeId, tracker_.noiseModel());
-    }
-  }
+  // The same precisions as the tracker's, which learns them (KeypointNoiseEstimator).
+  if (r.newKeyframe && options_.localOptimization && graph_->keyframeCount() > 1)
+    optimization_.keyframeAdded(r.keyframeId, tracker_.noiseModel());
   return r;
 }
 
-LocalOptimizer SlamSystem::optimizerFor(const DepthNoiseModel& noise) const {
-  // The same precisions as the tracker's, which learns them (KeypointNoiseEstimator).
-  LocalOptimizerOptions o = options_.optimizer;
-  o.noise = noise;
-  return LocalOptimizer(o);
-}
-
-void SlamSystem::optimizeAround(KeyframeId root, const DepthNoiseModel& noise) {
-  const LocalOptimizationReport rep = optimizerFor(noise).optimize(*graph_, root);
-  tracker_.notifyMapChanged();
-  std::lock_guard lock(statsMutex_);
-  if (rep.status == LocalOptimizationReport::Status::NothingToOptimise) return;
-  ++stats_.optimizations;
-  stats_.optimizationMs.push_back(rep.timeMs);
-  stats_.maxOptimizationTranslation =
-      std::max(stats_.maxOptimizationTranslation, rep.maxTranslationChange);
-  stats_.maxOptimizationRotationDeg =
-      std::max(stats_.maxOptimizationRotationDeg, rep.maxRotationChangeDeg);
-}
-
-void SlamSystem::optimizerLoop() {
-  std::unique_lock lock(jobMutex_);
-  for (;;) {
-    jobCv_.wait(lock, [&] { return jobPending_ || stopping_; });
-    if (stopping_) return;
-    const KeyframeId root = jobRoot_;
-    const DepthNoiseModel noise = jobNoise_;
-    jobPending_ = false;
-    busy_ = true;
-    lock.unlock();
-    optimizeAround(root, noise);
-    lock.lock();
-    busy_ = false;
-    jobCv_.notify_all();
-  }
-}
-
-void SlamSystem::waitForOptimizer() {
-  if (!optimizerThread_.joinable()) return;
-  std::unique_lock lock(jobMutex_);
-  jobCv_.wait(lock, [&] { return !jobPending_ && !busy_; });
-}
-
 void SlamSystem::finish() {
-  waitForOptimizer();
-  if (options_.globalPassAtEnd && graph_->keyframeCount() > 1) {
-    const LocalOptimizationReport rep = optimizerFor(tracker_.noiseModel()).optimizeAll(*graph_);
-    std::lock_guard lock(statsMutex_);
-    if (rep.usable) {
-      ++stats_.optimizations;
-      stats_.optimizationMs.push_back(rep.timeMs);
-    }
-  }
+  optimization_.waitUntilIdle();
+  if (options_.globalPassAtEnd && graph_->keyframeCount() > 1)
+    optimization_.optimizeWholeGraph(tracker_.noiseModel());
 }
 
 size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,
@@ -217,6 +149,11 @@ Trajectory SlamSystem::keyframeTrajectory() const {
 SlamStatistics SlamSystem::statistics() const {
   std::lock_guard lock(statsMutex_);
   SlamStatistics s = stats_;
+  const LocalOptimization::Statistics optimization = optimization_.statistics();
+  s.optimizations = optimization.optimizations;
+  s.optimizationMs = optimization.optimizationMs;
+  s.maxOptimizationTranslation = optimization.maxTranslationChange;
+  s.maxOptimizationRotationDeg = optimization.maxRotationChangeDeg;
   s.poolPreparation = tracker_.localMap().statistics();
   s.rollingShutterMs = tracker_.rollingShutterMs();
   s.keypointNoise = tracker_.noiseModel();

@@ -5,19 +5,17 @@
 
 #include <slamdunk/core/SessionLog.h>
 #include <slamdunk/core/TumTrajectory.h>
-#include <slamdunk/optimization/LocalOptimizer.h>
+#include <slamdunk/optimization/LocalOptimization.h>
 #include <slamdunk/slam/SlamOptions.h>
 #include <slamdunk/tracking/Tracker.h>
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
-#include <condition_variable>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 namespace slamdunk {
@@ -93,7 +91,7 @@ struct SlamStatistics {
 class SlamSystem {
  public:
   explicit SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph> graph = nullptr);
-  ~SlamSystem();  ///< stops the optimizer thread
+  ~SlamSystem();  ///< stops the optimization thread
   SlamSystem(const SlamSystem&) = delete;
   SlamSystem& operator=(const SlamSystem&) = delete;
 
@@ -120,11 +118,6 @@ class SlamSystem {
   /// The skip result for a frame whose timestamp does not increase, or nullopt.
   std::optional<TrackingResult> outOfOrder(double timestamp);
   TrackingResult track(const RgbdFrame& frame);
-  void optimizeAround(KeyframeId root, const DepthNoiseModel& noise);
-  /// The optimizer weighing the features with the tracker's current noise model.
-  LocalOptimizer optimizerFor(const DepthNoiseModel& noise) const;
-  void optimizerLoop();
-  void waitForOptimizer();
 
   SlamOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
@@ -137,13 +130,9 @@ class SlamSystem {
   size_t lastProcessedIndex_ = 0;  ///< of the last frame not skipped
   std::optional<double> lastProcessedTimestamp_;
 
-  mutable std::mutex statsMutex_;  // optimization figures are written by the optimizer thread
-  std::mutex jobMutex_;
-  std::condition_variable jobCv_;
-  bool jobPending_ = false, busy_ = false, stopping_ = false;
-  KeyframeId jobRoot_ = 0;
-  DepthNoiseModel jobNoise_;
-  std::thread optimizerThread_;
+  mutable std::mutex statsMutex_;
+  /// After the tracker: it is stopped first, and tells the tracker of every optimization.
+  LocalOptimization optimization_;
 };
 
 }  // namespace slamdunk
