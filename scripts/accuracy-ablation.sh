@@ -57,11 +57,11 @@ for c in "${configs[@]}"; do
   row="| $name |"
   for s in "${present[@]}"; do
     ini=$work/ablation.ini
-    cp config-ini/slamdunk-default.ini "$ini"
+    cp config-ini/slamdunk-advanced.ini "$ini"
     [[ $s == handheld_* ]] && sed -i "s/^depth_time_offset_ms .*/depth_time_offset_ms = 5/" "$ini"
     for kv in $edits; do
       key=${kv%%=*}
-      grep -q "^$key " "$ini" || { echo "accuracy-ablation: no key '$key' in the default INI" >&2; exit 1; }
+      grep -q "^$key " "$ini" || { echo "accuracy-ablation: no key '$key' in the advanced INI" >&2; exit 1; }
       sed -i "s/^$key .*/$key = ${kv#*=}/" "$ini"
     done
     if [ -z "${SEEDS:-}" ]; then

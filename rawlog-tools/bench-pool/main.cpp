@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
 
     SlamOptions options;
     if (argConfig.isSet()) options = SlamOptions::fromFile(argConfig.getValue());
-    options.tracker.poolInBackground = false;
+    options.tracker.localMap.backgroundPreparation = false;
 
     // The map, and the pose of every frame.
     std::vector<std::optional<Pose>> framePose;
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
                  graph.keyframeCount());
 
     // Every part indexed as the candidate says, however small, unless it says otherwise.
-    FeaturePoolOptions base = options.tracker.pool;
+    FeaturePoolOptions base = options.tracker.localMap.pool;
     base.bruteForceBelow = 0;
     std::vector<Candidate> candidates;
     auto add = [&](const std::string& name, auto change, Layout layout = Layout::Window) {
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     FeatureExtractor extractor(options.features);
     std::vector<Figures> figures(candidates.size());
     RawlogReader reader(argIn.getValue());
-    const double W = options.tracker.windowSize;
+    const double W = options.tracker.localMap.windowSize;
     for (size_t index = 0; auto obs = reader.next(); ++index) {
       if (!queryFrames.count(index)) continue;
       obs->load();

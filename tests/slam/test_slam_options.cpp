@@ -3,6 +3,7 @@
 #include "TestData.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
 using namespace slamdunk;
@@ -22,11 +23,28 @@ TEST(SlamOptions, DefaultIniEqualsBuiltInDefaults) {
   EXPECT_EQ(asText(fromIni), asText(SlamOptions()));
 }
 
+// The advanced INI lists every key, each at its built-in default.
+TEST(SlamOptions, AdvancedIniListsEveryKeyAtItsDefault) {
+  const std::string path = test::sourceDir() + "/config-ini/slamdunk-advanced.ini";
+  EXPECT_EQ(asText(SlamOptions::fromFile(path)), asText(SlamOptions()));
+  mrpt::config::CConfigFileMemory defaults;
+  SlamOptions().saveToConfigFile(defaults, "");
+  mrpt::config::CConfigFile advanced(path);
+  std::vector<std::string> sections;
+  defaults.getAllSections(sections);
+  for (const std::string& section : sections) {
+    std::vector<std::string> keys;
+    defaults.getAllKeys(section, keys);
+    for (const std::string& key : keys)
+      EXPECT_TRUE(advanced.keyExists(section, key)) << "[" << section << "] " << key;
+  }
+}
+
 TEST(SlamOptions, RoundTripThroughIni) {
   SlamOptions a;
   a.optimizerThread = true;
   a.optimizer.rings = 5;
-  a.tracker.windowSize = 2.5;
+  a.tracker.localMap.windowSize = 2.5;
   a.features.type = FeatureType::ORB;
   mrpt::config::CConfigFileMemory mem;
   a.saveToConfigFile(mem, "");

@@ -109,10 +109,15 @@ std::vector<double> IniSectionReader::readDoubles(const std::string& key,
   return out;
 }
 
-void IniSectionReader::rejectUnknownKeys() const {
+void IniSectionReader::rejectUnknownKeys(
+    const std::map<std::string, std::string>& movedKeys) const {
   if (!cfg_.sectionExists(section_)) return;
   std::vector<std::string> keys;
   cfg_.getAllKeys(section_, keys);
+  for (const auto& k : keys)
+    if (const auto moved = movedKeys.find(k); moved != movedKeys.end() && !known_.count(k))
+      throw std::invalid_argument("[" + section_ + "] " + k + " now belongs to section [" +
+                                  moved->second + "]: move it there");
   std::string unknown;
   for (const auto& k : keys)
     if (!known_.count(k)) unknown += (unknown.empty() ? "" : ", ") + printableText(k);

@@ -38,23 +38,30 @@ std::string toString(FeatureType type) {
   return "?";
 }
 
+namespace {
+template <class Self, class Keys>
+void forEachKey(Self& o, Keys& k) {
+  k.choice("type", o.type, featureTypeFromString);
+  k("max_features", o.maxFeatures);
+  k("surf_hessian_threshold", o.surfHessianThreshold);
+  k("surf_upright", o.surfUpright);
+  k("surf_octaves", o.surfOctaves);
+  k("orb_detect_features", o.orbDetectFeatures);
+  k("orb_fast_threshold", o.orbFastThreshold);
+  k("sift_detect_features", o.siftDetectFeatures);
+  k("min_depth", o.minDepth);
+  k("max_depth", o.maxDepth);
+  k("max_depth_discontinuity", o.maxDepthDiscontinuity);
+  k("depth_check_radius", o.depthCheckRadius);
+  k("keypoint_pixel_sigma", o.noise.pixelSigma);
+  k("keypoint_depth_sigma", o.noise.depthSigmaQuadratic);
+}
+}  // namespace
+
 void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& section) {
   IniSectionReader r(cfg, section);
-  type = featureTypeFromString(r.readString("type", toString(type)));
-  maxFeatures = r.readInt("max_features", maxFeatures);
-  surfHessianThreshold = r.readDouble("surf_hessian_threshold", surfHessianThreshold);
-  surfUpright = r.readBool("surf_upright", surfUpright);
-  surfOctaves = r.readInt("surf_octaves", surfOctaves);
-  orbDetectFeatures = r.readInt("orb_detect_features", orbDetectFeatures);
-  orbFastThreshold = r.readInt("orb_fast_threshold", orbFastThreshold);
-  siftDetectFeatures = r.readInt("sift_detect_features", siftDetectFeatures);
-  minDepth = r.readDouble("min_depth", minDepth);
-  maxDepth = r.readDouble("max_depth", maxDepth);
-  maxDepthDiscontinuity = r.readDouble("max_depth_discontinuity", maxDepthDiscontinuity);
-  depthCheckRadius = r.readInt("depth_check_radius", depthCheckRadius);
-  noise.pixelSigma = r.readDouble("keypoint_pixel_sigma", noise.pixelSigma);
-  noise.depthSigmaQuadratic = r.readDouble("keypoint_depth_sigma", noise.depthSigmaQuadratic);
+  forEachKey(*this, r);
   r.rejectUnknownKeys();
   if (!(noise.pixelSigma > 0 && noise.depthSigmaQuadratic > 0))
     throw std::invalid_argument("[" + section +
@@ -66,20 +73,8 @@ void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
 
 void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& section) const {
-  cfg.write(section, "type", toString(type));
-  cfg.write(section, "max_features", maxFeatures);
-  cfg.write(section, "surf_hessian_threshold", surfHessianThreshold);
-  cfg.write(section, "surf_upright", surfUpright);
-  cfg.write(section, "surf_octaves", surfOctaves);
-  cfg.write(section, "orb_detect_features", orbDetectFeatures);
-  cfg.write(section, "orb_fast_threshold", orbFastThreshold);
-  cfg.write(section, "sift_detect_features", siftDetectFeatures);
-  cfg.write(section, "min_depth", minDepth);
-  cfg.write(section, "max_depth", maxDepth);
-  cfg.write(section, "max_depth_discontinuity", maxDepthDiscontinuity);
-  cfg.write(section, "depth_check_radius", depthCheckRadius);
-  cfg.write(section, "keypoint_pixel_sigma", noise.pixelSigma);
-  cfg.write(section, "keypoint_depth_sigma", noise.depthSigmaQuadratic);
+  IniSectionWriter w(cfg, section);
+  forEachKey(*this, w);
 }
 
 namespace {

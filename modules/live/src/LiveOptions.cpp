@@ -13,7 +13,7 @@ namespace slamdunk::live {
 
 SlamOptions LiveOptions::liveSlamDefaults(SlamOptions base) {
   base.optimizerThread = true;
-  base.tracker.poolHandoverFrames = 0;
+  base.tracker.localMap.handoverFrames = 0;
   return base;
 }
 

@@ -11,7 +11,7 @@
 namespace slamdunk {
 
 namespace {
-const std::set<std::string> kSections{"features", "tracker", "optimizer", "slam"};
+const std::set<std::string> kSections{"features", "local_map", "tracker", "optimizer", "slam"};
 }
 
 void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -21,8 +21,9 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
   for (const auto& s : sections)
     if (!s.empty() && s.rfind(prefix, 0) == 0 && !kSections.count(s.substr(prefix.size())))
       throw std::invalid_argument("unknown section [" + printableText(s) +
-                                  "] (known: features, tracker, optimizer, slam)");
+                                  "] (known: features, local_map, tracker, optimizer, slam)");
   features.loadFromConfigFile(cfg, prefix + "features");
+  tracker.localMap.loadFromConfigFile(cfg, prefix + "local_map");
   tracker.loadFromConfigFile(cfg, prefix + "tracker");
   optimizer.loadFromConfigFile(cfg, prefix + "optimizer");
   IniSectionReader r(cfg, prefix + "slam");
@@ -35,6 +36,7 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
 void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                    const std::string& prefix) const {
   features.saveToConfigFile(cfg, prefix + "features");
+  tracker.localMap.saveToConfigFile(cfg, prefix + "local_map");
   tracker.saveToConfigFile(cfg, prefix + "tracker");
   optimizer.saveToConfigFile(cfg, prefix + "optimizer");
   cfg.write(prefix + "slam", "local_optimization", localOptimization);

@@ -53,7 +53,7 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
       extractor_(featureOptions),
       policy_(options.keyframes),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
-      localMap_(options_.localMapOptions(), graph_),
+      localMap_(options_.localMap, graph_),
       sensorTiming_(options.sensorTiming),
       rollingShutter_(options.sensorTiming.rollingShutterMs, options.rollingShutterEstimation) {
   for (KeyframeId id : graph_->ids()) {
@@ -454,7 +454,7 @@ void Tracker::undoFirstKeyframeTiming(const FirstKeyframe& first, const Pose& mo
   for (size_t i = 0; i < points.points.size(); ++i)
     refinedPoints.emplace_back(static_cast<uint32_t>(i), points.points[i]);
   graph_->setPoses({{first.id, graph_->pose(first.id)}}, refined);
-  firstPairPool_ = FeaturePool(options_.pool);
+  firstPairPool_ = FeaturePool(options_.localMap.pool);
   firstPairPool_.build(*graph_, {first.id}, poolCentre, first.frame.intrinsics());
 }
 
@@ -765,7 +765,7 @@ const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResu
   if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
     // No frustum: the camera may be anywhere in the map. Built here, not in the background:
     // only a lost camera needs it.
-    FeaturePoolOptions o = options_.pool;
+    FeaturePoolOptions o = options_.localMap.pool;
     o.frustumFilter = false;
     globalPool_ = FeaturePool(o);
     globalPool_.build(*graph_, graph_->ids(), Pose::Identity(), K);

@@ -1,6 +1,7 @@
 #pragma once
-// The whole pipeline's parameters: one INI file with sections [features], [tracker],
-// [optimizer] and [slam]. Unknown sections or keys are errors naming them.
+// The whole pipeline's parameters: one INI file with sections [features], [local_map],
+// [tracker], [optimizer] and [slam], each loaded by its own options struct. Unknown sections or
+// keys are errors naming them; docs/parameters.md lists every key.
 
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/optimization/LocalOptimizer.h>

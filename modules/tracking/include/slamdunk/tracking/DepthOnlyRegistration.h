@@ -25,6 +25,14 @@ struct DepthOnlyOptions {
   /// The reference normals are fitted to windows of ±normalRadius pixels of its depth
   /// (fitPlaneNormals) unless the term brings its own.
   int normalRadius = 2;
+
+  /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("depth_only_min_overlap", o.minAssociatedFraction);
+    k("depth_only_max_residual", o.maxRmsResidual);
+    k("depth_only_min_constraint", o.minConstraint);
+  }
 };
 
 struct DepthOnlyResult {

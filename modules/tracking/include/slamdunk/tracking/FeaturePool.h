@@ -46,6 +46,21 @@ struct FeaturePoolOptions {
   double frustumFar = 8.0;     ///< metres
   double frustumMargin = 0.1;  ///< fraction of the image size added around the frustum
   uint32_t seed = 7;           ///< KD-tree randomisation: same seed, same index, same matches
+
+  /// Its INI keys (in [local_map]), listed once for IniSectionReader and IniSectionWriter.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k.choice("pool_index", o.index, poolIndexTypeFromString);
+    k("kdtree_trees", o.kdTrees);
+    k("kdtree_checks", o.checks);
+    k("pool_brute_force_below", o.bruteForceBelow);
+    k("knn_neighbours", o.neighbours);
+    k("search_threads", o.searchThreads);
+    k("pool_frustum_filter", o.frustumFilter);
+    k("pool_frustum_far", o.frustumFar);
+    k("pool_frustum_margin", o.frustumMargin);
+    k("kdtree_seed", o.seed);
+  }
 };
 
 struct PoolFeature {

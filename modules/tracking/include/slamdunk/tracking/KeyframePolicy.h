@@ -19,6 +19,17 @@ struct KeyframePolicyOptions {
   /// A cell is textured when the frame has at least this many features in it (and more than
   /// F). 0: more than F, the paper's reading.
   int texturedCellFeatures = 0;
+
+  /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("grid_cols", o.gridCols);
+    k("grid_rows", o.gridRows);
+    k("cell_min_inliers", o.minInliersPerCell);
+    k("keyframe_overlap", o.minOverlap);
+    k("only_textured_cells", o.onlyTexturedCells);
+    k("textured_cell_features", o.texturedCellFeatures);
+  }
 };
 
 class KeyframePolicy {

@@ -18,6 +18,8 @@
 #include <slamdunk/tracking/FeaturePool.h>
 #include <slamdunk/tracking/QuadTree.h>
 
+#include <mrpt/config/CLoadableOptions.h>
+
 #include <condition_variable>
 #include <deque>
 #include <map>
@@ -28,7 +30,7 @@
 
 namespace slamdunk {
 
-struct LocalMapOptions {
+struct LocalMapOptions : public mrpt::config::CLoadableOptions {
   double windowSize = 5.0;    ///< W: side of the active window square, metres
   double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
   /// ... or has turned this many degrees from the orientation the window was asked for (0 =
@@ -47,6 +49,16 @@ struct LocalMapOptions {
   /// small windows arrive early, big ones do not make tracking wait.
   int handoverFeaturesPerFrame = 3000;
   FeaturePoolOptions pool;
+
+  /// Section [local_map]: the window's keys and its pool's. Unknown keys and bad values are
+  /// errors naming them.
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
+  /// The keys of this section, for the sections they once belonged to (an old INI file's
+  /// [tracker] window_size fails naming [local_map]).
+  static std::vector<std::string> keyNames();
 };
 
 /// What the pool preparation cost so far.

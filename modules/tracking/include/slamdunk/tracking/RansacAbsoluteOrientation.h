@@ -17,6 +17,17 @@ struct RansacOptions {
   int maxIterations = 1000;
   int minInliers = 12;
   uint32_t seed = 42;
+
+  /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("ransac_threshold", o.inlierThreshold);
+    k("ransac_depth_coefficient", o.depthCoefficient);
+    k("ransac_confidence", o.confidence);
+    k("ransac_max_iterations", o.maxIterations);
+    k("min_inliers", o.minInliers);
+    k("ransac_seed", o.seed);
+  }
 };
 
 struct RansacResult {

@@ -20,6 +20,13 @@ struct SensorTimingOptions {
   double depthTimeOffsetMs = 0;  ///< depth is captured this much after colour (mid-readout)
 
   bool any() const { return rollingShutterMs != 0 || depthTimeOffsetMs != 0; }
+
+  /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("rolling_shutter_ms", o.rollingShutterMs);
+    k("depth_time_offset_ms", o.depthTimeOffsetMs);
+  }
 };
 
 class SensorTiming {

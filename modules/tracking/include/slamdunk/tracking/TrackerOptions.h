@@ -1,5 +1,5 @@
 #pragma once
-// Every tracking parameter, read from one INI section (paper Table 3 names in comments).
+// Camera Tracking's parameters: section [tracker] (paper Table 3 names in comments).
 
 #include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/FeaturePool.h>
@@ -21,16 +21,9 @@ EdgeInformation edgeInformationFromString(const std::string& name);
 std::string toString(EdgeInformation e);
 
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
-  double windowSize = 5.0;    ///< W: side of the active window square, metres
-  double windowShift = 0.25;  ///< T: move the window when the camera is this far from its centre
-  /// ... or has turned this many degrees from the window's orientation (0 = never; see LocalMap)
-  double windowShiftAngle = 7.0;
-  /// Pools are prepared on a worker thread and handed over a fixed number of frames after
-  /// they were asked for: one per `poolHandoverFeaturesPerFrame` features of the window, at
-  /// most `poolHandoverFrames` (0: as soon as they are ready, never waiting; live). LocalMap.h.
-  bool poolInBackground = true;
-  int poolHandoverFrames = 8;
-  int poolHandoverFeaturesPerFrame = 3000;
+  /// Local Mapping's window and pool: section [local_map] (SlamOptions loads it; this struct's
+  /// own load reads [tracker] alone).
+  LocalMapOptions localMap;
   double ratioThreshold = 0.8;  ///< θ: multi-view ratio test
   int loopHopThreshold = 3;     ///< matched keyframes farther apart than this (R) close a loop
   int loopMinInliers = 10;      ///< a keyframe "matches" the frame with at least this many inliers
@@ -53,12 +46,10 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   int depthAlignmentStride = 8;             ///< pixels between the current frame's depth samples
   double depthAlignmentMaxDistance = 0.05;  ///< metres: farther associations are rejected
   double depthAlignmentMaxDepth = 4.0;      ///< metres: farther depth is too noisy to align
-  /// Reference normals from central differences. Far better tracking alone (7-Scenes 0.049 vs
-  /// 0.119 m; synthetic 0.9 vs 1.5 mm) but with the local optimization 7-Scenes measured
-  /// 0.044-0.045 m against 0.0435 m, too close to its 0.045 m target: off by default.
+  /// Reference normals from central differences instead of one-sided ones (docs/experiments.md).
   bool depthAlignmentCentralNormals = false;
-  /// Keep the depth term's associations in graph edges for the BA. Off: on 7-Scenes it measured
-  /// worse on average; on precise (synthetic) depth it lets the BA improve on tracking alone.
+  /// Keep the depth term's associations in graph edges for the bundle adjustment: worth it on
+  /// precise depth only (docs/experiments.md).
   bool depthEdges = false;
   int depthEdgeMaxMatches = 400;  ///< per keyframe (thinned evenly, total weight kept)
   double depthEdgeWeight = 1.0;   ///< weight of those matches relative to feature matches
@@ -93,8 +84,6 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
-
-  LocalMapOptions localMapOptions() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;
