@@ -11,7 +11,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/live/LiveSlam.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #ifdef SLAMDUNK_WITH_VIEWER
 #include <slamdunk/viewer/LiveViewer.h>
 #endif

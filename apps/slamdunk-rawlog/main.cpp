@@ -8,7 +8,7 @@
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 #include <slamdunk/slam/SlamSystem.h>
 #ifdef SLAMDUNK_WITH_VIEWER
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> argSaveMap(
         "", "save-map",
         "write the keyframe-graph map (slamdunk::CKeyframeGraphMap, readable by "
-        "slamdunk-render and by MRPT tools that load libslamdunk_maps.so)",
+        "slamdunk-render and by MRPT tools that load libslamdunk_mrpt_map.so)",
         false, "", "OUT.map", cmd);
     TCLAP::SwitchArg argMapImages(
         "", "map-images",

@@ -5,7 +5,7 @@
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/MapRenderer.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include <mrpt/opengl/COpenGLScene.h>
 

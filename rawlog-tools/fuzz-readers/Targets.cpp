@@ -7,7 +7,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/live/LiveOptions.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SlamOptions.h>
 #include <slamdunk/slam/SlamSystem.h>
 

@@ -2,7 +2,7 @@
 // success, a clear error and a non-zero exit code on a missing or corrupt map or a bad size.
 
 #include <slamdunk/dense/MapRenderer.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include "TestData.h"
 

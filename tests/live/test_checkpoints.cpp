@@ -7,7 +7,7 @@
 #include <slamdunk/live/CheckpointWriter.h>
 #include <slamdunk/live/LiveSlam.h>
 #include <slamdunk/live/PushFrameSource.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include "TestData.h"
 

@@ -6,7 +6,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/live/CheckpointWriter.h>
 #ifdef SLAMDUNK_LIVE_TEST_MAPS
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #endif
 
 #include "ChildProcess.h"

@@ -2,7 +2,7 @@
 // fixed frame offset (offline) or as soon as it is ready (live); new keyframes are matched from
 // the next frame on through an index of their own.
 
-#include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/mapping/LocalMap.h>
 
 #include "PoolTestData.h"
 

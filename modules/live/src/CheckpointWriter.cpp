@@ -1,7 +1,7 @@
 #include <slamdunk/live/CheckpointWriter.h>
 
 #include <slamdunk/core/AtomicOutput.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include <fcntl.h>
 #include <signal.h>

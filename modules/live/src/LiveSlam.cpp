@@ -2,7 +2,7 @@
 
 #include <slamdunk/core/AtomicOutput.h>
 
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 
 #include <chrono>

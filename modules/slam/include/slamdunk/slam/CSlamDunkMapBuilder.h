@@ -13,7 +13,7 @@
 //    the SLAM system's graph (its getVisualizationInto() shows the map z-up in the same world,
 //    without the x0 offset).
 
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SlamOptions.h>
 #include <slamdunk/slam/SlamSystem.h>
 

@@ -10,10 +10,10 @@
 
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/graph/KeyframeGraph.h>
-#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/mapping/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
-#include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/MotionModelError.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/RollingShutterEstimator.h>

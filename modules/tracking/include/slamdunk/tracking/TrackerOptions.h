@@ -2,10 +2,10 @@
 // Camera Tracking's parameters: section [tracker] (paper Table 3 names in comments).
 
 #include <slamdunk/tracking/DepthOnlyRegistration.h>
-#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/mapping/FeaturePool.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
-#include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
 #include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/SensorTiming.h>

@@ -1,4 +1,4 @@
-#include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/mapping/LocalMap.h>
 
 #include <algorithm>
 #include <chrono>

@@ -103,7 +103,7 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
   mutable std::shared_ptr<mrpt::maps::CSimplePointsMap> pointsCache_;
 };
 
-/// The class registers itself when libslamdunk_maps is loaded. A program that uses the map only
+/// The class registers itself when libslamdunk_mrpt_map is loaded. A program that uses the map only
 /// by name (CMultiMetricMap INI, CArchive::ReadObject) references none of the library's symbols,
 /// so Debian's default `--as-needed` drops the library from the executable. Calling this once
 /// (it registers the class again, harmlessly) keeps it; `-Wl,--no-as-needed` works too.

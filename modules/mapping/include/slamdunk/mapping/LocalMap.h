@@ -15,8 +15,8 @@
 // offline runs are deterministic. With 0 it is handed over as soon as it is ready
 // and tracking never waits (live).
 
-#include <slamdunk/tracking/FeaturePool.h>
-#include <slamdunk/tracking/QuadTree.h>
+#include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/QuadTree.h>
 
 #include <mrpt/config/CLoadableOptions.h>
 

@@ -1,4 +1,4 @@
-#include <slamdunk/tracking/QuadTree.h>
+#include <slamdunk/mapping/QuadTree.h>
 
 #include <algorithm>
 #include <array>

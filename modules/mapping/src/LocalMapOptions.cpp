@@ -1,5 +1,5 @@
 #include <slamdunk/core/IniOptions.h>
-#include <slamdunk/tracking/LocalMap.h>
+#include <slamdunk/mapping/LocalMap.h>
 
 #include <stdexcept>
 

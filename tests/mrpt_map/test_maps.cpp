@@ -4,7 +4,7 @@
 // Rawlogs come from the prepare_test_data fixture (<build>/test-data).
 
 #include <slamdunk/core/RawlogReader.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/CSlamDunkMapBuilder.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 #include <slamdunk/slam/SlamSystem.h>

@@ -1,4 +1,4 @@
-// A program that knows nothing of SlamDunk (it links MRPT only): it loads libslamdunk_maps.so
+// A program that knows nothing of SlamDunk (it links MRPT only): it loads libslamdunk_mrpt_map.so
 // as an MRPT plug-in and reads a saved keyframe map through MRPT's generic object factory, as
 // RawLogViewer or SceneViewer3D would. Used by test_maps.
 //

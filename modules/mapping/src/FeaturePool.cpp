@@ -1,4 +1,4 @@
-#include <slamdunk/tracking/FeaturePool.h>
+#include <slamdunk/mapping/FeaturePool.h>
 
 #include <nanoflann.hpp>
 #include <opencv2/core/utility.hpp>

@@ -3,7 +3,7 @@
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/core/PngHeader.h>
 #include <slamdunk/core/Pose.h>
-#include <slamdunk/maps/CKeyframeGraphMap.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include <mrpt/core/initializer.h>
 #include <mrpt/io/CFileGZInputStream.h>
