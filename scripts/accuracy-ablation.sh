@@ -31,7 +31,7 @@ configs=(
   "all of edge, not learned, no velocity, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false estimate_frame_velocity=false window_shift_angle=0"
 )
 
-field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
+source scripts/lib/summary.sh
 run() {  # run <sequence> <ini>: the app's JSON summary
   "$bin/slamdunk-rawlog" "$work/$1.rawlog" --config "$2" -t "$work/ablation.txt" --json -q \
     --gt "$work/${1}_groundtruth.txt"

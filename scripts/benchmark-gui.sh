@@ -6,26 +6,22 @@
 #   scripts/benchmark-gui.sh [RUNS] [RAWLOG]    (default 5 runs each; build/test-data/7scenes.rawlog)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/summary.sh
+source scripts/lib/xvfb.sh
 runs=${1:-5}
 rawlog=${2:-build/test-data/7scenes.rawlog}
 app=build/bin/slamdunk-rawlog
-[ -x "$app" ] || { echo "benchmark-gui: build first (scripts/build.sh)" >&2; exit 1; }
-[ -f "$rawlog" ] || { echo "benchmark-gui: $rawlog missing (ctest -R prepare_test_data)" >&2; exit 1; }
-out=$(mktemp -d)
-source scripts/lib/xvfb.sh
-start_xvfb benchmark-gui
+start_gui_benchmark benchmark-gui "$app" "$rawlog"
 
-value() { sed -n "s/.*\"$1\": \([0-9.]*\).*/\1/p" "$2" | head -1; }
-median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 printf "%-8s %4s %8s %8s %8s %8s\n" mode run fps p50_ms p95_ms max_ms
 for i in $(seq "$runs"); do
   for mode in gui plain; do
     flags=()
     [ "$mode" = gui ] && flags=(--gui)
     "$app" "$rawlog" -t "$out/t.txt" --json -q "${flags[@]}" >"$out/$mode-$i.json"
-    printf "%-8s %4d %8s %8s %8s %8s\n" "$mode" "$i" "$(value fps "$out/$mode-$i.json")" \
-      "$(value ms_tracking_median "$out/$mode-$i.json")" \
-      "$(value ms_tracking_p95 "$out/$mode-$i.json")" "$(value ms_tracking_max "$out/$mode-$i.json")"
+    printf "%-8s %4d %8s %8s %8s %8s\n" "$mode" "$i" "$(field fps "$out/$mode-$i.json")" \
+      "$(field ms_tracking_median "$out/$mode-$i.json")" \
+      "$(field ms_tracking_p95 "$out/$mode-$i.json")" "$(field ms_tracking_max "$out/$mode-$i.json")"
   done
 done
 echo "medians of $runs runs:"

@@ -7,21 +7,17 @@
 #   scripts/benchmark-live.sh [RUNS] [RAWLOG]   (default 3; build/test-data/7scenes.rawlog)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/summary.sh
+source scripts/lib/xvfb.sh
 runs=${1:-3}
 rawlog=$(realpath "${2:-build/test-data/7scenes.rawlog}")
 app=build/bin/slamdunk-live
-[ -x "$app" ] || { echo "benchmark-live: build first (scripts/build.sh)" >&2; exit 1; }
-[ -f "$rawlog" ] || { echo "benchmark-live: $rawlog missing (ctest -R prepare_test_data)" >&2; exit 1; }
-out=$(mktemp -d)
-source scripts/lib/xvfb.sh
-start_xvfb benchmark-live
+start_gui_benchmark benchmark-live "$app" "$rawlog"
 printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' "$rawlog" \
   >"$out/default.ini"
 printf '[slamdunk-live]\nsource = REPLAY\ncheckpoint_every_keyframes = 0\ncheckpoint_every_seconds = 0\n[REPLAY]\ndriver = replay\nrawlog = %s\n' \
   "$rawlog" >"$out/nocheckpoints.ini"
 
-value() { sed -n "s/.*\"$1\": \([0-9.]*\).*/\1/p" "$2" | head -1; }
-median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 keys=(frames_dropped ms_tracking_median ms_tracking_p95 ms_tracking_max latency_ms_p95 checkpoints
   checkpoint_ms_median checkpoint_ms_max checkpoint_snapshot_ms_max)
 printf "%-14s %3s" mode run
@@ -34,7 +30,7 @@ for i in $(seq "$runs"); do
     [ "$mode" = gui ] && flags=(--gui)
     "$app" --config "$ini" --trajectory "$out/t.txt" --json -q "${flags[@]}" >"$out/$mode-$i.json"
     printf "%-14s %3d" "$mode" "$i"
-    for k in "${keys[@]}"; do printf " %s" "$(value "$k" "$out/$mode-$i.json")"; done
+    for k in "${keys[@]}"; do printf " %s" "$(field "$k" "$out/$mode-$i.json")"; done
     echo
   done
 done

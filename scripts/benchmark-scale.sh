@@ -24,7 +24,7 @@ sed 's/^keyframe_overlap .*/keyframe_overlap = 0.95/' config-ini/slamdunk-defaul
 sed 's/^keep_keyframe_images .*/keep_keyframe_images = true/' "$work/scale.ini" > "$work/scale-images.ini"
 frames=$(grep -vc '^#' "$gt")
 
-field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
+source scripts/lib/summary.sh
 run() {  # run INI MAX_FRAMES [EXTRA...]: JSON summary
   local ini=$1 max=$2; shift 2
   "$bin/slamdunk-rawlog" "$tour" --config "$ini" -t "$work/traj.txt" --json -q \

@@ -14,14 +14,10 @@ bin=build/bin
 work=build/benchmark
 mkdir -p "$work"
 
+source scripts/lib/rawlog.sh
+source scripts/lib/summary.sh
 prepare() {  # prepare NAME SEQ CAMERA
-  # Converted again when the camera file or the converter changed (they decide the depth
-  # registration).
-  [ "$work/$1.rawlog" -nt "config-ini/cameras/$3" ] && [ "$work/$1.rawlog" -nt "$bin/tum2rawlog" ] &&
-    return 0
-  [ -d "$data/$2" ] || { echo "skipping $1: $data/$2 not found" >&2; return 1; }
-  "$bin/tum2rawlog" "$data/$2" "$work/$1.rawlog" --camera "config-ini/cameras/$3" \
-    --external-images -q >/dev/null
+  prepare_recording "$bin" "$data/$2" "config-ini/cameras/$3" "$work/$1.rawlog"
 }
 # Exact and Kinect-like depth from one render (--kinect-twin: the twin is byte for byte what
 # --kinect-depth alone renders).
@@ -51,9 +47,6 @@ for ((i = 0; i < ${BUSY_LOOPS:-0}; i++)); do
   (while :; do :; done) &
   busy+=($!)
 done
-
-median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
-field() { { grep -o "\"$1\": *[-0-9.eE+]*" || true; } | head -1 | sed 's/.*: *//'; }
 
 # run NAME FEATURE EXTRA_SLAM_ARGS...: prints one table row
 run() {

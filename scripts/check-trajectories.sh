@@ -15,11 +15,11 @@ inputs=${INPUTS:-build/check-inputs}
 [ -x "$bin/slamdunk-rawlog" ] || { echo "no $bin/slamdunk-rawlog (build first)" >&2; exit 2; }
 mkdir -p "$inputs" "$out"
 
-convert() {  # convert NAME SEQ CAMERA
+source scripts/lib/rawlog.sh
+convert() {  # convert NAME SEQ CAMERA: once, so that every build is compared on the same input
   [ -f "$inputs/$1.rawlog" ] && return 0
   [ -d "$data/$2" ] || { echo "missing recording: $data/$2" >&2; exit 2; }
-  "$bin/tum2rawlog" "$data/$2" "$inputs/$1.rawlog" --camera "config-ini/cameras/$3" \
-    --external-images -q >/dev/null
+  convert_recording "$bin" "$data/$2" "config-ini/cameras/$3" "$inputs/$1.rawlog"
 }
 convert 7scenes 7scenes/seq-1000f 7scenes.ini
 convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini

@@ -7,11 +7,9 @@ cd "$(dirname "$0")/.."
 data=${SLAMDUNK_DATA_DIR:-$(pwd)/../shared/data}
 work=build/figure
 mkdir -p "$work" docs
-# Converted again when the camera file or the converter changed (they decide the registration).
-[ "$work/7scenes.rawlog" -nt config-ini/cameras/7scenes.ini ] &&
-  [ "$work/7scenes.rawlog" -nt build/bin/tum2rawlog ] ||
-  build/bin/tum2rawlog "$data/7scenes/seq-1000f" "$work/7scenes.rawlog" \
-    --camera config-ini/cameras/7scenes.ini --external-images -q
+source scripts/lib/rawlog.sh
+prepare_recording build/bin "$data/7scenes/seq-1000f" config-ini/cameras/7scenes.ini \
+  "$work/7scenes.rawlog"
 build/bin/slamdunk-rawlog "$work/7scenes.rawlog" -t "$work/trajectory.txt" -q \
   --save-map "$work/7scenes.map" --map-images
 build/bin/slamdunk-render "$work/7scenes.map" docs/7scenes-map.png --width 800 --height 500 \

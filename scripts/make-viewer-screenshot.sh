@@ -14,8 +14,9 @@ for tool in Xvfb xwininfo import xdotool; do
   command -v "$tool" >/dev/null ||
     { echo "make-viewer-screenshot: $tool missing (scripts/install-deps.sh)" >&2; exit 1; }
 done
-[ -f "$work/7scenes.rawlog" ] || build/bin/tum2rawlog "$data/7scenes/seq-1000f" \
-  "$work/7scenes.rawlog" --camera config-ini/cameras/7scenes.ini --external-images -q
+source scripts/lib/rawlog.sh
+prepare_recording build/bin "$data/7scenes/seq-1000f" config-ini/cameras/7scenes.ini \
+  "$work/7scenes.rawlog"
 
 Xvfb :"$((100 + RANDOM % 800))" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset \
   3>"$work/display" 2>"$work/xvfb.log" &

@@ -86,8 +86,9 @@ EOF
 }
 [ "$analyse_only" = 1 ] || run
 
-field() { grep -o "\"$1\": *[-0-9.eE+]*" "$work/summary.json" | head -1 | sed 's/.*: *//'; }
-echo "received $(field frames_received), processed $(field frames_processed), dropped $(field frames_dropped), lost $(field lost), keyframes $(field keyframes), map $(field map_kib) KiB, optimizations $(field optimizations), loop closures $(field loop_closures)"
+source scripts/lib/summary.sh
+summary() { field "$1" "$work/summary.json"; }
+echo "received $(summary frames_received), processed $(summary frames_processed), dropped $(summary frames_dropped), lost $(summary lost), keyframes $(summary keyframes), map $(summary map_kib) KiB, optimizations $(summary optimizations), loop closures $(summary loop_closures)"
 
 # Frame log columns: 4 grab_s, 5 latency_ms, 7 keyframes, 8 new_keyframe.
 lastkf=$(awk -F, 'NR > 1 && $8 == 1 { t = $4 } END { printf "%.0f", t + 0 }' "$work/frames.csv")

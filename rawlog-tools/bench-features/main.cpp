@@ -22,6 +22,9 @@
 
 #include "slamdunk/features/Surf.h"
 
+#include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/Statistics.h>
+
 namespace {
 
 /// $SLAMDUNK_DATA_DIR/7scenes/seq-1000f, else the shared data folder seen from the project root.
@@ -98,12 +101,6 @@ std::vector<cv::Mat> loadImages(const std::string& folder, int count) {
   return images;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 void benchmark(const std::string& name, const cv::Ptr<cv::Feature2D>& detector,
                const std::vector<cv::Mat>& images, int repeats) {
   std::vector<double> ms, cpuMs, counts;
@@ -123,15 +120,15 @@ void benchmark(const std::string& name, const cv::Ptr<cv::Feature2D>& detector,
     }
   }
   const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
-  std::printf("%-18s %10.2f %10.2f %10.2f %10.0f %6d\n", name.c_str(), median(ms), mean,
-              median(cpuMs), median(counts), detector->descriptorSize());
+  std::printf("%-18s %10.2f %10.2f %10.2f %10.0f %6d\n", name.c_str(), slamdunk::median(ms), mean,
+              slamdunk::median(cpuMs), slamdunk::median(counts), detector->descriptorSize());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options opt;
-  try {
+  return slamdunk::runTool("bench-features", [&] {
+    Options opt;
     if (!parse(argc, argv, opt)) {
       usage(argv[0]);
       return 2;
@@ -159,9 +156,6 @@ int main(int argc, char** argv) {
     benchmark("SURF-128", surf(false, true), images, opt.repeats);
     benchmark("ORB", cv::ORB::create(opt.orbFeatures), images, opt.repeats);
     benchmark("SIFT", cv::SIFT::create(), images, opt.repeats);
-  } catch (const std::exception& e) {
-    std::cerr << "bench-features: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

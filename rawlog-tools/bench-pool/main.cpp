@@ -8,10 +8,10 @@
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/slam/SlamSystem.h>
 
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -20,11 +20,6 @@
 using namespace slamdunk;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 /// How a candidate lays out the pool.
 enum class Layout {
@@ -63,7 +58,7 @@ std::string stats(const std::vector<double>& v, const char* format) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("bench-pool", [&] {
     TCLAP::CmdLine cmd(
         "Feature pool benchmark: build and query cost and matching accuracy of the "
         "candidate indexes (FLANN trees and checks, nanoflann, per-keyframe indexes, the "
@@ -184,12 +179,12 @@ int main(int argc, char** argv) {
       for (size_t c = 0; c < candidates.size(); ++c) {
         const Candidate& cand = candidates[c];
         FeaturePool pool(cand.options);
-        const auto t = Clock::now();
+        const auto t = SteadyClock::now();
         buildPool(pool, cand.layout, cand.options);
         const MatchSet& reference =
             cand.layout == Layout::OneKeyframe ? nearestReference : windowReference;
         const double buildMs = msSince(t);
-        const auto t2 = Clock::now();
+        const auto t2 = SteadyClock::now();
         const auto matches = pool.match(features.descriptors, options.tracker.ratioThreshold);
         const double matchMs = msSince(t2);
         const MatchSet found = matchSet(pool, matches);
@@ -223,8 +218,5 @@ int main(int argc, char** argv) {
                   eval::ErrorStatistics::compute(f.precision).median);
     }
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "bench-pool: error: " << e.what() << "\n";
-  }
-  return 1;
+  });
 }

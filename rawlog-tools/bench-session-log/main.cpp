@@ -6,6 +6,7 @@
 // to the same temporary folder, as scripts/live-disk-stall.sh does to a live replay.
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/slam/SlamSystem.h>
 
@@ -71,7 +72,7 @@ class DiskPressure {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("bench-session-log", [&] {
     TCLAP::CmdLine cmd(
         "Session log benchmark: how long the appends that spill a chunk to the log's temporary "
         "file take, on a quiet disk or beside a process flushing 100 MB every 0.5 s.",
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
       const size_t inMemory = log.entriesInMemory();
       const auto start = Clock::now();
       log.push_back(record);
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      const double ms = msSince(start);
       (log.entriesInMemory() < inMemory ? spilling : others).push_back(ms);
       next += std::chrono::duration_cast<Clock::duration>(period);
       std::this_thread::sleep_until(next);
@@ -122,8 +123,5 @@ int main(int argc, char** argv) {
     std::printf("other appends       ms median %.4f  p95 %.4f  max %.3f\n", rest.median, rest.p95,
                 rest.max);
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "bench-session-log: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

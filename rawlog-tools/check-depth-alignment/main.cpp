@@ -5,6 +5,7 @@
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/Statistics.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/RotationScale.h>
 #include <slamdunk/eval/TrajectoryAssociation.h>
@@ -56,13 +57,6 @@ struct Summary {
   std::vector<double> residualGiven, residualAligned, rotationMoved, translationMoved;
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double rms(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x * x;
@@ -108,7 +102,7 @@ Trajectory loadTrajectory(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("check-depth-alignment", [&] {
     TCLAP::CmdLine cmd(kDescription, ' ', "1.0");
     TCLAP::UnlabeledValueArg<std::string> rawlogArg("RAWLOG", "Rawlog of RGB-D observations.", true,
                                                     "", "RAWLOG", cmd);
@@ -197,8 +191,5 @@ int main(int argc, char** argv) {
                   rms(s.rotationMoved), 1000 * rms(s.translationMoved));
     }
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "check-depth-alignment: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

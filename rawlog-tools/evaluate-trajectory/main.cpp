@@ -167,7 +167,7 @@ Trajectory load(const std::string& role, const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("evaluate-trajectory", [&] {
     TCLAP::CmdLine cmd(kDescription, ' ', "1.0");
     TCLAP::UnlabeledValueArg<std::string> gtArg(
         "GROUNDTRUTH", "Ground-truth trajectory (TUM format).", true, "", "GROUNDTRUTH.txt", cmd);
@@ -221,8 +221,5 @@ int main(int argc, char** argv) {
     else
       printHuman(gtPath, estPath, options, ev);
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "evaluate-trajectory: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

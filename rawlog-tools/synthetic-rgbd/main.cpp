@@ -5,16 +5,14 @@
 #include <slamdunk/synthetic/SyntheticSequence.h>
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/Stopwatch.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <stdexcept>
 #include <string>
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("synthetic-rgbd", [&] {
     TCLAP::CmdLine cmd(
         "Renders a synthetic RGB-D sequence (a textured indoor scene, software OpenGL through EGL, "
         "no display needed) into an MRPT rawlog of CObservation3DRangeScan observations "
@@ -135,22 +133,12 @@ int main(int argc, char** argv) {
           "--kinect-twin and --kinect-depth exclude each other (the twin "
           "is the Kinect-depth copy of an exact-depth sequence)");
 
-    const bool quiet = argQuiet.getValue();
-    size_t lastReported = 0;
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = slamdunk::SteadyClock::now();
     const auto sum = slamdunk::writeSyntheticSequence(
         opts, argOut.getValue(), argGt.getValue(),
-        [&](size_t done, size_t total) {
-          if (quiet) return;
-          if (done == total || done - lastReported >= std::max<size_t>(1, total / 20)) {
-            std::fprintf(stderr, "synthetic-rgbd: rendered %zu/%zu frames (%.0f%%)\n", done, total,
-                         100.0 * done / total);
-            lastReported = done;
-          }
-        },
+        slamdunk::frameProgress("synthetic-rgbd: rendered", argQuiet.getValue()),
         argKinectTwin.getValue());
-    const double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double secs = slamdunk::msSince(start) / 1000.0;
 
     const auto& st = sum.stats;
     std::printf("synthetic-rgbd summary\n");
@@ -183,10 +171,5 @@ int main(int argc, char** argv) {
     std::printf("  time:             %.2f s (%.1f ms/frame rendering)\n", secs,
                 sum.frames ? 1000.0 * sum.renderSeconds / sum.frames : 0.0);
     return 0;
-  } catch (const TCLAP::ArgException& e) {
-    std::cerr << "synthetic-rgbd: " << e.error() << " (" << e.argId() << "); see --help\n";
-  } catch (const std::exception& e) {
-    std::cerr << "synthetic-rgbd: error: " << e.what() << "\n";
-  }
-  return 1;
+  });
 }

@@ -1,15 +1,14 @@
 // tum2rawlog: TUM RGB-D folder -> MRPT rawlog of CObservation3DRangeScan (+ TUM ground truth).
 
-#include "TumToRawlog.h"
-
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/Stopwatch.h>
+#include <slamdunk/core/TumToRawlog.h>
 
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 
 int main(int argc, char** argv) {
-  try {
+  return slamdunk::runTool("tum2rawlog", [&] {
     TCLAP::CmdLine cmd(
         "Converts a TUM RGB-D benchmark folder (rgb.txt, depth.txt, optional groundtruth.txt) "
         "into an MRPT rawlog of CObservation3DRangeScan observations (observation-only format). "
@@ -73,19 +72,10 @@ int main(int argc, char** argv) {
       std::cerr << "tum2rawlog: no --camera given, using the generic Kinect/Xtion calibration\n";
     }
 
-    const bool quiet = argQuiet.getValue();
-    const auto start = std::chrono::steady_clock::now();
-    size_t lastReported = 0;
-    const auto sum = slamdunk::convertTumToRawlog(opts, [&](size_t done, size_t total) {
-      if (quiet) return;
-      if (done == total || done - lastReported >= std::max<size_t>(1, total / 20)) {
-        std::fprintf(stderr, "tum2rawlog: %zu/%zu frames (%.0f%%)\n", done, total,
-                     100.0 * done / total);
-        lastReported = done;
-      }
-    });
-    const double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto start = slamdunk::SteadyClock::now();
+    const auto sum = slamdunk::convertTumToRawlog(
+        opts, slamdunk::frameProgress("tum2rawlog:", argQuiet.getValue()));
+    const double secs = slamdunk::msSince(start) / 1000.0;
 
     std::printf("tum2rawlog summary\n");
     std::printf("  input:            %s\n", opts.sequenceFolder.c_str());
@@ -106,10 +96,5 @@ int main(int argc, char** argv) {
       std::printf("  gt observations:  %zu\n", sum.groundTruthObservations);
     std::printf("  conversion time:  %.2f s\n", secs);
     return 0;
-  } catch (const TCLAP::ArgException& e) {
-    std::cerr << "tum2rawlog: " << e.error() << " (" << e.argId() << "); see --help\n";
-  } catch (const std::exception& e) {
-    std::cerr << "tum2rawlog: error: " << e.what() << "\n";
-  }
-  return 1;
+  });
 }

@@ -142,6 +142,20 @@ mrpt::opengl::CRenderizable::Ptr findByName(const mrpt::opengl::CSetOfObjects& s
   return nullptr;
 }
 
+/// The graph's keyframes and poses without their images (and, when withEdges, its edges).
+std::shared_ptr<KeyframeGraph> withoutImages(const KeyframeGraph& graph, bool withEdges) {
+  auto stripped = std::make_shared<KeyframeGraph>();
+  for (const auto& [id, pose] : graph.poses()) {
+    auto kf = std::make_shared<Keyframe>(*graph.keyframe(id));
+    kf->colour = cv::Mat();
+    kf->depth = cv::Mat();
+    stripped->addKeyframe(kf, pose);
+  }
+  if (withEdges)
+    for (const KeyframeEdge& e : graph.allEdges()) stripped->addMatches(e.i, e.j, e.matches);
+  return stripped;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ serialization
@@ -233,15 +247,7 @@ TEST(KeyframeGraphMap, RoundTripIsExact) {
 TEST(KeyframeGraphMap, RoundTripOfMapWithoutImagesAndEmptyMap) {
   REQUIRE_SWEEP_GRAPH(graph);
   const std::string dir = test::scratchDir("Maps_RoundTripNoImages");
-  // Same keyframes without their images.
-  auto stripped = std::make_shared<KeyframeGraph>();
-  for (const auto& [id, pose] : graph->poses()) {
-    auto kf = std::make_shared<Keyframe>(*graph->keyframe(id));
-    kf->colour = cv::Mat();
-    kf->depth = cv::Mat();
-    stripped->addKeyframe(kf, pose);
-  }
-  for (const KeyframeEdge& e : graph->allEdges()) stripped->addMatches(e.i, e.j, e.matches);
+  const auto stripped = withoutImages(*graph, true);
   CKeyframeGraphMap(stripped).saveToFile(dir + "/noimages.kfmap");
   const auto loaded = CKeyframeGraphMap::loadFromFile(dir + "/noimages.kfmap");
   EXPECT_EQ(loaded->graph()->keyframeCount(), graph->keyframeCount());
@@ -557,15 +563,9 @@ TEST(KeyframeGraphMap, VisualizationHasFrustumsEdgesAndCloud) {
 
 TEST(KeyframeGraphMap, VisualizationWithoutImagesDrawsFeaturePoints) {
   REQUIRE_SWEEP_GRAPH(graph);
-  auto stripped = std::make_shared<KeyframeGraph>();
+  const auto stripped = withoutImages(*graph, false);
   size_t features = 0;
-  for (const auto& [id, pose] : graph->poses()) {
-    auto kf = std::make_shared<Keyframe>(*graph->keyframe(id));
-    kf->colour = cv::Mat();
-    kf->depth = cv::Mat();
-    features += kf->features.points.size();
-    stripped->addKeyframe(kf, pose);
-  }
+  for (KeyframeId id : stripped->ids()) features += stripped->keyframe(id)->features.points.size();
   const auto cloud = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(
       findByName(*CKeyframeGraphMap(stripped).getVisualization(), "points"));
   ASSERT_TRUE(cloud);
@@ -668,13 +668,7 @@ TEST(SimpleMapExport, ObservationsToMapBuildsAPointMap) {
 
 TEST(SimpleMapExport, NoImagesIsAClearError) {
   REQUIRE_SWEEP_GRAPH(graph);
-  auto stripped = std::make_shared<KeyframeGraph>();
-  for (const auto& [id, pose] : graph->poses()) {
-    auto kf = std::make_shared<Keyframe>(*graph->keyframe(id));
-    kf->colour = cv::Mat();
-    kf->depth = cv::Mat();
-    stripped->addKeyframe(kf, pose);
-  }
+  const auto stripped = withoutImages(*graph, false);
   const std::string dir = test::scratchDir("Maps_SimpleMapNoImages");
   try {
     exportSimpleMap(*stripped, dir + "/x.simplemap");

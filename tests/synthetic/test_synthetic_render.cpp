@@ -2,6 +2,7 @@
 // agree with each other through the ground truth, renders are deterministic and richly textured.
 
 #include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/Statistics.h>
 #include <slamdunk/synthetic/SyntheticRenderer.h>
 #include <slamdunk/synthetic/SyntheticScene.h>
 #include <slamdunk/synthetic/SyntheticSequence.h>
@@ -94,13 +95,9 @@ Consistency compareFrames(SyntheticSequence& seq, size_t a, size_t b) {
   Consistency c;
   c.compared = residuals.size();
   if (residuals.empty()) return c;
-  auto median = [](std::vector<double>& x) {
-    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-    return x[x.size() / 2];
-  };
-  c.medianAbs = median(residuals);
+  c.medianAbs = upperMedian(residuals);
   c.fractionWithin1cm = double(within) / residuals.size();
-  c.medianGreyDiff = greyDiffs.empty() ? 255 : median(greyDiffs);
+  c.medianGreyDiff = greyDiffs.empty() ? 255 : upperMedian(greyDiffs);
   return c;
 }
 

@@ -1,3 +1,4 @@
+#include <slamdunk/core/DepthBackProjection.h>
 #include <slamdunk/dense/DenseReconstruction.h>
 #include <slamdunk/dense/OccupancyMap.h>
 
@@ -26,17 +27,9 @@ void validateDepthRange(int stride, double minDepth, double maxDepth, const char
                                 ", " + std::to_string(maxDepth) + "] is empty or invalid");
 }
 
+/// The colour of an image pixel; neutral grey without a usable image.
 DenseCloud::Rgb colourAt(const cv::Mat& image, int u, int v) {
-  if (image.empty()) return {200, 200, 200};
-  if (image.type() == CV_8UC3) {
-    const auto& bgr = image.at<cv::Vec3b>(v, u);
-    return {bgr[2], bgr[1], bgr[0]};
-  }
-  if (image.type() == CV_8UC1) {
-    const uint8_t g = image.at<uint8_t>(v, u);
-    return {g, g, g};
-  }
-  return {200, 200, 200};
+  return rgbAt(image, u, v).value_or(DenseCloud::Rgb{200, 200, 200});
 }
 
 }  // namespace
@@ -77,25 +70,20 @@ DenseCloud backProjectKeyframe(const Keyframe& keyframe, const Pose& T_world_key
   const cv::Mat& colour = keyframe.colour;
   const double sx = colour.empty() ? 1.0 : double(colour.cols) / depth.cols;
   const double sy = colour.empty() ? 1.0 : double(colour.rows) / depth.rows;
-  const bool undistort = options.undistort && K.hasDistortion();
   const Eigen::Matrix3f R = T_world_keyframe.linear().cast<float>();
   const Eigen::Vector3f t = T_world_keyframe.translation().cast<float>();
 
   const int s = options.pixelStride;
   cloud.reserve(size_t(depth.rows / s + 1) * size_t(depth.cols / s + 1));
-  for (int v = 0; v < depth.rows; v += s) {
-    const float* row = depth.ptr<float>(v);
-    for (int u = 0; u < depth.cols; u += s) {
-      const float z = row[u];
-      if (!std::isfinite(z) || z < options.minDepth || z > options.maxDepth) continue;
-      Eigen::Vector2d px(u, v);
-      if (undistort) px = K.undistortPixel(u, v);
-      const Eigen::Vector3f p = K.backProject(px.x(), px.y(), z).cast<float>();
-      const int cu = std::min(colour.cols - 1, int(u * sx));
-      const int cv = std::min(colour.rows - 1, int(v * sy));
-      cloud.add(R * p + t, colourAt(colour, cu, cv));
-    }
-  }
+  forEachDepthPoint(
+      depth, K, DepthSampling{s, 1, options.undistort},
+      [&](float z) { return std::isfinite(z) && z >= options.minDepth && z <= options.maxDepth; },
+      [&](int u, int v, const Eigen::Vector3d& p) {
+        const int cu = std::min(colour.cols - 1, int(u * sx));
+        const int cv = std::min(colour.rows - 1, int(v * sy));
+        const Eigen::Vector3f pf = p.cast<float>();
+        cloud.add(R * pf + t, colourAt(colour, cu, cv));
+      });
   return cloud;
 }
 

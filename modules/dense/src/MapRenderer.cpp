@@ -1,5 +1,6 @@
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/dense/MapRenderer.h>
+#include <slamdunk/mrpt_map/CameraFrustum.h>
 
 #include <mrpt/img/CImage.h>
 
@@ -8,7 +9,6 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/opengl/CFBORender.h>
-#include <mrpt/opengl/CFrustum.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
@@ -32,8 +32,6 @@ namespace slamdunk {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// Kinect-like field of view for the keyframe frustums (the graph keeps no per-frame FOV here).
-constexpr float kFrustumHorzFovDeg = 58, kFrustumVertFovDeg = 45;
 
 /// The distance at which a box (corners relative to the pointed-at centre) fits the view.
 double fittingDistance(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
@@ -234,17 +232,12 @@ std::shared_ptr<mrpt::opengl::COpenGLScene> MapRenderer::buildScene() const {
 
   if (options_.showFrustums) {
     // Frustums scaled to the map: visible in a room, not a wall of lines in a small scan.
-    const float depth = float(std::clamp(0.04 * extent, 0.03, 0.4));
+    FrustumShape shape;
+    shape.farDistance = float(std::clamp(0.04 * extent, 0.03, 0.4));
+    shape.colour = mrpt::img::TColor(255, 170, 40);
     auto frustums = CSetOfObjects::Create();
     frustums->setName("keyframes");
-    for (const Pose& T : keyframes_) {
-      auto f =
-          CFrustum::Create(0.0f, depth, kFrustumHorzFovDeg, kFrustumVertFovDeg, 1.0f, true, false);
-      f->setColor_u8(mrpt::img::TColor(255, 170, 40));
-      // CFrustum points along its +X axis: place it with the keyframe's MRPT sensor pose.
-      f->setPose(toCPose3D(opticalToSensorPose(T)));
-      frustums->insert(f);
-    }
+    for (const Pose& T : keyframes_) frustums->insert(makeCameraFrustum(shape, T));
     map->insert(frustums);
   }
   auto origin = stock_objects::CornerXYZSimple(float(std::clamp(0.05 * extent, 0.05, 0.5)), 2);

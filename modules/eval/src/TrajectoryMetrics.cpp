@@ -1,6 +1,7 @@
 #include <slamdunk/eval/TrajectoryMetrics.h>
 
 #include <slamdunk/core/Pose.h>
+#include <slamdunk/core/Statistics.h>
 #include <slamdunk/eval/RotationScale.h>
 
 #include <algorithm>
@@ -19,13 +20,6 @@ std::string format(const char* fmt, Args... args) {
   char buf[512];
   std::snprintf(buf, sizeof(buf), fmt, args...);
   return buf;
-}
-
-double medianOf(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 /// evaluate_rpe.py's find_closest_index, step for step: a binary search that remembers the
@@ -86,7 +80,7 @@ ErrorStatistics ErrorStatistics::compute(std::vector<double> values) {
   };
   s.p95 = percentile(95);
   s.p99 = percentile(99);
-  s.median = medianOf(std::move(values));
+  s.median = slamdunk::median(std::move(values));
   return s;
 }
 
@@ -152,7 +146,7 @@ RpeResult TrajectoryMetrics::computeRpe(const Trajectory& gtIn, const Trajectory
   std::vector<double> gtIntervals;
   for (std::size_t k = 1; k < gtStamps.size(); ++k)
     gtIntervals.push_back(gtStamps[k] - gtStamps[k - 1]);
-  const double gtMaxTimeDifference = 2 * medianOf(gtIntervals);
+  const double gtMaxTimeDifference = 2 * slamdunk::median(gtIntervals);
 
   std::vector<double> transErrors, rotErrors;
   RotationScale rotationScale;

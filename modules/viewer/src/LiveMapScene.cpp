@@ -1,7 +1,9 @@
 #include <slamdunk/viewer/LiveMapScene.h>
 
+#include <slamdunk/core/DepthBackProjection.h>
+#include <slamdunk/mrpt_map/CameraFrustum.h>
+
 #include <mrpt/img/CImage.h>
-#include <mrpt/opengl/CFrustum.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/stock_objects.h>
 
@@ -15,8 +17,6 @@ namespace slamdunk::viewer {
 
 namespace {
 
-// Kinect-like field of view for the frustums (as the offscreen renderer draws them).
-constexpr float kHorzFovDeg = 58, kVertFovDeg = 45;
 // An edge of a loop-closing keyframe to one spawned more than this many keyframes before it
 // closes the loop; its edges to the keyframes just before it are the path's own.
 constexpr KeyframeId kLoopIdGap = 3;
@@ -26,40 +26,31 @@ mrpt::img::TColor colour(const unsigned char (&c)[3]) {
 }
 cv::Scalar bgr(const unsigned char (&c)[3]) { return cv::Scalar(c[2], c[1], c[0]); }
 
+/// A frustum drawn in the optical frame of the camera or keyframe object it belongs to.
 mrpt::opengl::CFrustum::Ptr frustum(float depth, const unsigned char (&c)[3], float lineWidth) {
-  auto f =
-      mrpt::opengl::CFrustum::Create(0.0f, depth, kHorzFovDeg, kVertFovDeg, lineWidth, true, false);
-  f->setColor_u8(colour(c));
-  // CFrustum looks along its +X axis: placed in a keyframe's optical frame through the sensor
-  // frame (x forward).
-  f->setPose(toCPose3D(opticalInSensor().inverse()));
-  return f;
+  FrustumShape shape;
+  shape.farDistance = depth;
+  shape.lineWidth = lineWidth;
+  shape.colour = colour(c);
+  return makeCameraFrustum(shape, Pose::Identity());
 }
 
 /// Each point of a keyframe's cloud, in order: its subsampled depth's valid pixels, as (u, v)
-/// in the full image and the depth z.
+/// in the full image and the point in the keyframe's optical frame.
 template <class Point>
-void forEachCloudPixel(const Keyframe& kf, const LiveMapSceneOptions& options, Point&& point) {
+void forEachCloudPoint(const Keyframe& kf, const LiveMapSceneOptions& options, Point&& point) {
   cv::Mat depth;
   kf.depthSmall.convertTo(depth, CV_32F);
-  const int s = std::max(1, kf.depthSmallStride);
-  const int step = std::max(1, options.cloudStride);
-  for (int r = 0; r < depth.rows; r += step)
-    for (int c = 0; c < depth.cols; c += step) {
-      const float z = depth.at<float>(r, c);
-      if (!(z > 0.1f && z < options.maxDepth)) continue;
-      point(c * s, r * s, z);
-    }
+  forEachDepthPoint(
+      depth, kf.intrinsics, DepthSampling{options.cloudStride, kf.depthSmallStride, false},
+      [&](float z) { return z > 0.1f && z < options.maxDepth; }, point);
 }
 
 /// A cloud point's colour: its pixel in the keyframe's image, or without one a neutral
 /// blue-grey, lighter near the camera.
 mrpt::img::TColorf pointColour(const cv::Mat& image, int u, int v, float z, double maxDepth) {
-  if (!image.empty() && u < image.cols && v < image.rows) {
-    const uchar* px = image.ptr<uchar>(v) + u * image.channels();
-    return mrpt::img::TColorf(px[image.channels() > 2 ? 2 : 0] / 255.f,
-                              px[image.channels() > 1 ? 1 : 0] / 255.f, px[0] / 255.f);
-  }
+  if (const auto rgb = rgbAt(image, u, v))
+    return mrpt::img::TColorf((*rgb)[0] / 255.f, (*rgb)[1] / 255.f, (*rgb)[2] / 255.f);
   const float shade = 0.35f + 0.5f * (1 - z / static_cast<float>(maxDepth));
   return mrpt::img::TColorf(shade, shade, std::min(1.0f, shade + 0.15f));
 }
@@ -128,9 +119,8 @@ mrpt::opengl::CSetOfObjects::Ptr LiveMapScene::makeKeyframe(const Keyframe& kf) 
   const int step = std::max(1, options_.cloudStride);
   cloud->reserve(static_cast<size_t>(kf.depthSmall.rows / step + 1) *
                  (kf.depthSmall.cols / step + 1));
-  forEachCloudPixel(kf, options_, [&](int u, int v, float z) {
-    const Eigen::Vector3d p = kf.intrinsics.backProject(u, v, z);
-    const mrpt::img::TColorf c = pointColour(image, u, v, z, options_.maxDepth);
+  forEachCloudPoint(kf, options_, [&](int u, int v, const Eigen::Vector3d& p) {
+    const mrpt::img::TColorf c = pointColour(image, u, v, float(p.z()), options_.maxDepth);
     cloud->push_back(float(p.x()), float(p.y()), float(p.z()), c.R, c.G, c.B);
   });
   cloud->setPointSize(options_.pointSize);
@@ -158,9 +148,10 @@ void LiveMapScene::update(const KeyframeGraph& graph, const ViewerFrame* latest,
       if (const KeyframePtr kf = graph.keyframe(id); kf && kf->colour.empty()) {
         if (const auto cloud = it->second->getByClass<mrpt::opengl::CPointCloudColoured>()) {
           size_t i = 0;
-          forEachCloudPixel(*kf, options_, [&](int u, int v, float z) {
+          forEachCloudPoint(*kf, options_, [&](int u, int v, const Eigen::Vector3d& p) {
             if (i >= cloud->size()) return;
-            const mrpt::img::TColorf c = pointColour(colour->second, u, v, z, options_.maxDepth);
+            const mrpt::img::TColorf c =
+                pointColour(colour->second, u, v, float(p.z()), options_.maxDepth);
             cloud->setPointColor_fast(i++, c.R, c.G, c.B);
           });
           cloud->markAllPointsAsNew();

@@ -1,5 +1,4 @@
 #pragma once
-// CONTRACT (written by the lead; the implementer may add members but must keep these).
 // The SlamDunk map as an MRPT metric map plug-in: keyframes (pose, timestamp, features with 3D
 // points and descriptors, optionally images), graph edges with their matches. Serializable
 // (versioned) and declarable in a CMultiMetricMap INI as "slamdunk::CKeyframeGraphMap".
@@ -14,11 +13,11 @@
 //   [map_keyframeGraphMap_00_renderOpts]     ; optional, see TRenderOptions
 //   cloud_decimation = 4
 //
-// File format (saveToFile): gz-compressed MRPT archive holding one object of this class,
-// serialization version 0 (see CKeyframeGraphMap.cpp for the exact layout). Images are kept
-// exactly: colour as PNG (lossless); depth bit-exact, as a 16-bit PNG with a float scale when
-// every pixel is float(k) * scale (checked when saving: sensor depth usually is), else as the
-// raw CV_32F bytes.
+// File format (saveToFile): gz-compressed MRPT archive holding one object of this class at
+// serialization version kSerializationVersion; older versions are read too (each version's
+// layout: src/KeyframeGraphCodec.cpp). Images are kept exactly: colour as PNG (lossless); depth
+// bit-exact, as a 16-bit PNG with a float scale when every pixel is float(k) * scale (checked
+// when saving: sensor depth usually is), else as the raw CV_32F bytes.
 
 #include <slamdunk/graph/KeyframeGraph.h>
 

@@ -1,4 +1,4 @@
-#include "TumToRawlog.h"
+#include <slamdunk/core/TumToRawlog.h>
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/Pose.h>

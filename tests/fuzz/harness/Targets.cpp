@@ -1,9 +1,8 @@
 #include "Targets.h"
 
-#include "../tum2rawlog/TumToRawlog.h"
-
 #include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/core/TumSequence.h>
+#include <slamdunk/core/TumToRawlog.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/eval/TrajectoryMetrics.h>
 #include <slamdunk/live/LiveOptions.h>
@@ -54,21 +53,17 @@ void writeFileBytes(const std::string& path, const Bytes& data) {
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
-long peakRssMiB() {
+/// A "Vm...:" figure of /proc/self/status (given in KiB) in MiB; 0 when absent.
+long procStatusMiB(const std::string& key) {
   std::ifstream s("/proc/self/status");
   std::string line;
   while (std::getline(s, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6)) / 1024;
+    if (line.rfind(key + ":", 0) == 0) return std::stol(line.substr(key.size() + 1)) / 1024;
   return 0;
 }
 
-long currentVmSizeMiB() {
-  std::ifstream s("/proc/self/status");
-  std::string line;
-  while (std::getline(s, line))
-    if (line.rfind("VmSize:", 0) == 0) return std::stol(line.substr(7)) / 1024;
-  return 0;
-}
+long peakRssMiB() { return procStatusMiB("VmHWM"); }
+long currentVmSizeMiB() { return procStatusMiB("VmSize"); }
 
 void resetPeakRss() {
   std::ofstream f("/proc/self/clear_refs");

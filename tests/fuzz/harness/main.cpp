@@ -277,14 +277,12 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> argCrashes("", "crashes",
                                             "folder for failing inputs (default ./fuzz-crashes)",
                                             false, "fuzz-crashes", "DIR", cmd);
-    TCLAP::ValueArg<unsigned> argTimeout("", "timeout",
-                                         "seconds per input before it counts as a "
-                                         "hang (default 10)",
-                                         false, 10, "SEC", cmd);
-    TCLAP::ValueArg<long> argMaxRss("", "max-rss-mb",
-                                    "peak memory per input before it counts as a failure "
-                                    "(default 1536)",
-                                    false, 1536, "MB", cmd);
+    TCLAP::ValueArg<unsigned> argTimeout(
+        "", "timeout", "seconds per input before it counts as a hang (default 10)", false, 10,
+        "SEC", cmd);
+    TCLAP::ValueArg<long> argMaxRss(
+        "", "max-rss-mb", "peak memory per input before it counts as a failure (default 1536)",
+        false, 1536, "MB", cmd);
     TCLAP::ValueArg<std::string> argReplay("", "replay", "run one saved input and report", false,
                                            "", "FILE", cmd);
     TCLAP::ValueArg<std::string> argMakeCorpus(
