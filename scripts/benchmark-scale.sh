@@ -37,8 +37,9 @@ echo "map data per keyframe, counted: $(echo "$full" | field map_kib_per_keyfram
 echo
 echo "| keyframes | frames | tracking ms p50 | p95 | max |"
 echo "|---|---|---|---|---|"
-# Columns of the frame log: new_keyframe is 8, ms_total 16.
-awk -F, 'NR > 1 { if ($8 == 1) kf++; b = int(kf / 100); print b, $16 }' "$work/frames.csv" |
+# The frame log's columns, found by name.
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+  { if ($col["new_keyframe"] == 1) kf++; print int(kf / 100), $col["ms_total"] }' "$work/frames.csv" |
   sort -k1,1n -k2,2g |
   awk '{ v[$1, ++n[$1]] = $2 }
        END { for (b in n) {

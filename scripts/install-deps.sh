@@ -14,6 +14,7 @@ packages=(
   libopenni2-dev
   liboctomap-dev
   libpcl-dev
+  nlohmann-json3-dev  # the apps' JSON summaries
   libgl1-mesa-dri libegl-mesa0 libegl1
   xvfb x11-utils imagemagick xdotool  # viewers tested under a virtual X server (xdotool: keys)
   python3

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""What the keyframe policy saw: reads a frame log (slamdunk-rawlog --frame-log) and, when given,
-the ground truth, and prints how often keyframes were spawned, the overlap and counted grid
-cells at the spawning frames, and how far the camera had turned and moved since the previous
-keyframe. Pure Python (no numpy).
+"""What the keyframe policy saw: reads a frame log (--frame-log of slamdunk-rawlog or
+slamdunk-live) and, when given, the ground truth, and prints how often keyframes were spawned,
+the overlap and counted grid cells at the spawning frames, and how far the camera had turned and
+moved since the previous keyframe. Pure Python (no numpy).
 
   scripts/keyframe-policy-report.py FRAMES.csv [GROUNDTRUTH.txt]
 """

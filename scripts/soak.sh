@@ -23,7 +23,8 @@
 #   SOAK_CHECKPOINTS=0 scripts/soak.sh      checkpoints off
 #   SOAK_WORK=DIR scripts/soak.sh           outputs in DIR (default build/soak)
 #   scripts/soak.sh --analyse [BLOCK]      the figures of the last run again (build/soak)
-# Outputs stay in build/soak/: frames.csv (per frame), rss.csv (per sample), summary.json, log.
+# Outputs stay in build/soak/: frames.csv (per frame; latency.csv, the columns read here), rss.csv
+# (per sample), summary.json, log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 analyse_only=0
@@ -62,7 +63,7 @@ rawlog = $rawlog
 loops  = 0
 EOF
 
-  rm -f "$work/frames.csv" "$work/summary.json"
+  rm -f "$work/frames.csv" "$work/latency.csv" "$work/summary.json"
   echo "seconds,rss_kib" > "$work/rss.csv"
   echo "soak: $minutes minutes of $rawlog replayed in a loop, RSS every $interval s ..." >&2
   nice -n "${SOAK_NICE:-0}" "$bin/slamdunk-live" --config "$work/live.ini" \
@@ -90,9 +91,12 @@ source scripts/lib/summary.sh
 summary() { field "$1" "$work/summary.json"; }
 echo "received $(summary frames_received), processed $(summary frames_processed), dropped $(summary frames_dropped), lost $(summary lost), keyframes $(summary keyframes), map $(summary map_kib) KiB, optimizations $(summary optimizations), loop closures $(summary loop_closures)"
 
-# Frame log columns: 4 grab_s, 5 latency_ms, 7 keyframes, 8 new_keyframe.
-lastkf=$(awk -F, 'NR > 1 && $8 == 1 { t = $4 } END { printf "%.0f", t + 0 }' "$work/frames.csv")
-read -r fps duration < <(awk -F, 'NR > 1 { n++; t = $4 } END { printf "%.2f %.0f\n", (t > 0 ? n / t : 0), t }' "$work/frames.csv")
+# The frame log's columns used here, found by name: 1 grab_s, 2 latency_ms, 3 new_keyframe.
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+  { print $col["grab_s"] "," $col["latency_ms"] "," $col["new_keyframe"] }' "$work/frames.csv" \
+  > "$work/latency.csv"
+lastkf=$(awk -F, '$3 == 1 { t = $1 } END { printf "%.0f", t + 0 }' "$work/latency.csv")
+read -r fps duration < <(awk -F, '{ n++; t = $1 } END { printf "%.2f %.0f\n", (t > 0 ? n / t : 0), t }' "$work/latency.csv")
 warmup=$(awk -v k="$lastkf" -v d="$duration" 'BEGIN { w = k + 60; if (w < d / 10) w = d / 10; printf "%.0f", w }')
 echo "warm-up: the last keyframe was added at ${lastkf} s, memory measured from ${warmup} s; $fps frames/s processed over $duration s"
 
@@ -113,7 +117,7 @@ awk -F, -v w="$warmup" -v tol="$tolerance" '
 echo
 echo "| minutes | frames | keyframes added | latency ms p50 | p95 | max |"
 echo "|---|---|---|---|---|---|"
-awk -F, -v b="$block" 'NR > 1 { print int($4 / (60 * b)), $5, $8 }' "$work/frames.csv" |
+awk -F, -v b="$block" '{ print int($1 / (60 * b)), $2, $3 }' "$work/latency.csv" |
   sort -k1,1n -k2,2g |
   awk -v b="$block" -v w="$warmup" '
     { k = $1; v[k, ++n[k]] = $2; kf[k] += $3; if (!(k in seen)) { seen[k] = 1; order[++blocks] = k } }
@@ -133,6 +137,6 @@ awk -F, -v b="$block" 'NR > 1 { print int($4 / (60 * b)), $5, $8 }' "$work/frame
 
 # Creep: the least-squares slope of every frame's latency after warm-up (a busy machine makes
 # block p95s jump; a trend shows here).
-awk -F, -v w="$warmup" 'NR > 1 && $4 >= w { n++; sx += $4; sy += $5; sxx += $4 * $4; sxy += $4 * $5 }
+awk -F, -v w="$warmup" '$1 >= w { n++; sx += $1; sy += $2; sxx += $1 * $1; sxy += $1 * $2 }
   END { if (n > 2) printf "latency trend after warm-up: %+.1f ms per hour (least squares over %d frames)\n",
-          3600 * (n * sxy - sx * sy) / (n * sxx - sx * sx), n }' "$work/frames.csv"
+          3600 * (n * sxy - sx * sy) / (n * sxx - sx * sx), n }' "$work/latency.csv"

@@ -3,20 +3,17 @@
 // CGenericSensor, e.g. COpenNI2Sensor over OpenNI2) or from a rawlog replayed in real time. On
 // the end of the stream, Ctrl-C or SIGTERM it finishes the session and writes every output.
 
-#include "LiveSummary.h"
 #include "StatusPrinter.h"
 
+#include <slamdunk/apps/LiveSummary.h>
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/CommandLine.h>
 #include <slamdunk/core/TumTrajectory.h>
-#include <slamdunk/eval/TrajectoryMetrics.h>
+#include <slamdunk/dense/MapRenderer.h>
 #include <slamdunk/live/LiveSlam.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #ifdef SLAMDUNK_WITH_VIEWER
 #include <slamdunk/viewer/LiveViewer.h>
-#endif
-#ifdef SLAMDUNK_LIVE_WITH_RENDER
-#include <slamdunk/dense/MapRenderer.h>
 #endif
 
 #include <atomic>
@@ -120,10 +117,6 @@ int main(int argc, char** argv) {
     if (argGui.getValue())
       throw std::runtime_error("--gui: this build has no viewer (slamdunk::viewer needs X11)");
 #endif
-#ifndef SLAMDUNK_LIVE_WITH_RENDER
-    if (argRender.isSet())
-      throw std::runtime_error("--render: this build has no map renderer (slamdunk::dense)");
-#endif
     rejectPathClashes(
         {{"--config", argConfig.getValue()},
          {"--rawlog", argRawlog.getValue()},
@@ -203,10 +196,9 @@ int main(int argc, char** argv) {
       if (!quiet) status.checkpoints(live->checkpointFigures());
     }
     if (!quiet) std::fprintf(stderr, "[slamdunk-live] finishing the optimization...\n");
-    LiveFigures fig;
+    apps::LiveFigures fig;
     fig.result = live->finish();
     LiveResult& result = fig.result;
-#ifdef SLAMDUNK_LIVE_WITH_RENDER
     // Last: the picture is a convenience, the files above are the results. Like them, a
     // failure is reported at the end and keeps the earlier picture.
     if (argRender.isSet()) {
@@ -216,18 +208,15 @@ int main(int argc, char** argv) {
         result.outputFailures.push_back(writeErrorMessage(argRender.getValue(), e.what()));
       }
     }
-#endif
-    if (!groundTruth.empty() && result.trajectory.size() >= 3) {
-      const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, result.trajectory);
-      fig.ate = LiveAte{ev.ate.stats.rmse, ev.ate.stats.mean, ev.ate.stats.median, ev.ate.stats.max,
-                        ev.pairs};
-    } else if (!groundTruth.empty()) {
-      std::fprintf(stderr, "slamdunk-live: only %zu tracked frames: no ATE\n",
-                   result.trajectory.size());
+    if (!groundTruth.empty()) {
+      fig.ate = apps::evaluateAte(groundTruth, result.trajectory);
+      if (!fig.ate)
+        std::fprintf(stderr, "slamdunk-live: only %zu tracked frames: no ATE\n",
+                     result.trajectory.size());
     }
     fig.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
-    printLiveSummary(fig, argJson.getValue());
+    apps::printLiveSummary(fig, argJson.getValue());
     // Out now: stdout may be a pipe (fully buffered), and the summary must not depend on how
     // the viewer's window and the process end.
     std::fflush(stdout);

@@ -24,6 +24,16 @@ bool LatestFrameQueue::push(FramePtr frame, TimePoint grabbed) {
 LatestFrameQueue::FramePtr LatestFrameQueue::pop(TimePoint* grabbed) {
   std::unique_lock lock(mutex_);
   ready_.wait(lock, [&] { return !frames_.empty() || closed_; });
+  return takeOldest(grabbed);
+}
+
+LatestFrameQueue::FramePtr LatestFrameQueue::pop(const std::atomic<bool>& stop) {
+  std::unique_lock lock(mutex_);
+  while (frames_.empty() && !closed_ && !stop) ready_.wait_for(lock, std::chrono::milliseconds(50));
+  return stop ? nullptr : takeOldest(nullptr);
+}
+
+LatestFrameQueue::FramePtr LatestFrameQueue::takeOldest(TimePoint* grabbed) {
   if (frames_.empty()) return nullptr;
   FramePtr f = std::move(frames_.front().first);
   if (grabbed) *grabbed = frames_.front().second;

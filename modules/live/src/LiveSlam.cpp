@@ -54,7 +54,15 @@ LiveSlam::LiveSlam(LiveOptions options, std::unique_ptr<FrameSource> source, Liv
     if (!out.empty()) requireWritableFolder(out);
   slam_ = std::make_unique<SlamSystem>(options_.slam, session_.startMap);
   if (!session_.recording.empty()) recorder_ = std::make_unique<RawlogRecorder>(session_.recording);
-  if (!session_.frameLog.empty()) frameCsv_ = std::make_unique<FrameCsvLog>(session_.frameLog);
+  if (!session_.frameLog.empty()) {
+    frameCsvOutput_ = std::make_unique<AtomicOutput>(session_.frameLog);
+    try {
+      frameCsv_ = std::make_unique<FrameCsvLog>(frameCsvOutput_->tempPath());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(
+          writeErrorMessage(session_.frameLog, e.what(), frameCsvOutput_->tempPath()));
+    }
+  }
   if (const std::string folder = checkpointFolder(); !folder.empty())
     checkpoints_ =
         std::make_unique<CheckpointWriter>(options_.checkpoint, folder, slam_->graph(), frameLog_,
@@ -111,12 +119,11 @@ bool LiveSlam::waitUntilOpen(double timeoutSeconds, const std::atomic<bool>* can
 
 void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const TrackingResult& r,
                          double latencyMs) {
-  if (r.newKeyframe) ++keyframesSeen_;
   if (frameCsv_) {
     const auto grabbed = std::chrono::steady_clock::now() -
                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double, std::milli>(latencyMs));
-    frameCsv_->add(r, grabbed, latencyMs, keyframesSeen_);
+    frameCsv_->add(r, FrameCsvLog::Grab{grabbed, latencyMs});
   }
   if (r.skipped) return;  // a timestamp that did not increase: not part of the trajectory
   if (checkpoints_) {
@@ -220,7 +227,11 @@ LiveResult LiveSlam::finish() {
     result.recorded = recorder_->written();
     result.recordSkipped = recorder_->skipped();
   }
-  if (frameCsv_) outputs.attempt(session_.frameLog, [&] { frameCsv_->finish(); });
+  if (frameCsv_)
+    outputs.attempt(session_.frameLog, [&] {
+      frameCsv_->finish();
+      frameCsvOutput_->commit();
+    });
   return result;
 }
 

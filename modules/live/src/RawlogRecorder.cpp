@@ -93,14 +93,4 @@ void RawlogRecorder::finish() {
   output_.commit();
 }
 
-size_t RawlogRecorder::written() const {
-  std::lock_guard lock(mutex_);
-  return written_;
-}
-
-size_t RawlogRecorder::skipped() const {
-  std::lock_guard lock(mutex_);
-  return skipped_;
-}
-
 }  // namespace slamdunk::live

@@ -5,6 +5,7 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -26,11 +27,17 @@ class LatestFrameQueue {
   /// Blocks until a frame is waiting (returns it, and when it was grabbed if asked) or the
   /// queue is closed and empty (nullptr).
   FramePtr pop(TimePoint* grabbed = nullptr);
+  /// As pop(), but also returns nullptr once `stop` is set (set without the queue's lock, so
+  /// it is looked at every 50 ms).
+  FramePtr pop(const std::atomic<bool>& stop);
   /// No more frames will come: pop() returns what is left, then nullptr.
   void close();
   size_t dropped() const;
 
  private:
+  /// The oldest waiting frame, nullptr when none; the caller holds mutex_.
+  FramePtr takeOldest(TimePoint* grabbed);
+
   const size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable ready_;

@@ -27,7 +27,6 @@
 // own handler's flag (slamdunk-live does so on SIGINT/SIGTERM).
 
 #include <slamdunk/live/CheckpointWriter.h>
-#include <slamdunk/live/FrameCsvLog.h>
 #include <slamdunk/live/FrameLog.h>
 #include <slamdunk/live/FrameSource.h>
 #include <slamdunk/live/LiveOptions.h>
@@ -35,6 +34,7 @@
 #include <slamdunk/live/LivePose.h>
 #include <slamdunk/live/RawlogRecorder.h>
 
+#include <slamdunk/slam/FrameCsvLog.h>
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <atomic>
@@ -57,7 +57,7 @@ struct LiveSession {
   std::string keyframes;   ///< TUM file of the keyframes; "" = "<trajectory>_keyframes<ext>"
   std::string map;         ///< the keyframe map (CKeyframeGraphMap)
   std::string recording;   ///< rawlog of every received frame, images embedded
-  std::string frameLog;    ///< CSV, one line per processed frame (grab time, latency, state)
+  std::string frameLog;    ///< CSV, one line per processed frame (FrameCsvLog)
   size_t maxFrames = 0;    ///< stop after receiving this many frames; 0 = no limit
 };
 
@@ -147,8 +147,8 @@ class LiveSlam {
   std::unique_ptr<SlamSystem> slam_;
   std::unique_ptr<RawlogRecorder> recorder_;
   FrameLog frameLog_;
+  std::unique_ptr<AtomicOutput> frameCsvOutput_;
   std::unique_ptr<FrameCsvLog> frameCsv_;
-  size_t keyframesSeen_ = 0;  ///< tracking thread
   std::unique_ptr<CheckpointWriter> checkpoints_;
   std::unique_ptr<LivePipeline> pipeline_;
   PoseCallback poseCallback_;

@@ -4,9 +4,8 @@
 // here. close() ends the stream, like a camera unplugged at the end of a session.
 
 #include <slamdunk/live/FrameSource.h>
+#include <slamdunk/live/LatestFrameQueue.h>
 
-#include <condition_variable>
-#include <deque>
 #include <mutex>
 
 namespace slamdunk::live {
@@ -23,7 +22,7 @@ class PushFrameSource : public FrameSource {
   /// No more frames: the pipeline processes those already pushed, then ends.
   void close();
   /// Frames dropped here because the grabber thread did not keep up.
-  size_t dropped() const;
+  size_t dropped() const { return queue_.dropped(); }
 
   void open() override {}
   /// Waits for a pushed frame; nullptr once closed and drained, or when `stop` is set.
@@ -31,11 +30,8 @@ class PushFrameSource : public FrameSource {
   std::string describe() const override { return "frames pushed by the application"; }
 
  private:
-  const size_t capacity_;
-  mutable std::mutex mutex_;
-  std::condition_variable ready_;
-  std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> frames_;
-  size_t dropped_ = 0;
+  LatestFrameQueue queue_;
+  std::mutex closeMutex_;  // a push either lands before close() or is refused
   bool closed_ = false;
 };
 

@@ -8,6 +8,7 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -28,8 +29,8 @@ class RawlogRecorder {
   /// Writes what is queued, closes and renames the file. Throws on a write error.
   void finish();
 
-  size_t written() const;
-  size_t skipped() const;
+  size_t written() const { return written_; }
+  size_t skipped() const { return skipped_; }
 
  private:
   void writerLoop();
@@ -41,7 +42,7 @@ class RawlogRecorder {
   mutable std::mutex mutex_;
   std::condition_variable ready_;
   std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> backlog_;
-  size_t written_ = 0, skipped_ = 0;
+  std::atomic<size_t> written_{0}, skipped_{0};
   bool stopping_ = false;
   std::string error_;
   std::thread writer_;

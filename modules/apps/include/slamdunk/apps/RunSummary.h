@@ -1,17 +1,14 @@
 #pragma once
-// The end-of-run report of the offline app: counts, per-stage timings, speed, memory.
+// The end-of-run report of an offline run (slamdunk-rawlog): counts, per-stage timings, speed,
+// memory, accuracy; as text or as JSON (keys documented in docs/tools.md).
 
+#include <slamdunk/apps/AteFigures.h>
 #include <slamdunk/slam/SlamSystem.h>
 
 #include <optional>
-#include <string>
+#include <vector>
 
-namespace slamdunk {
-
-struct AteFigures {
-  double rmse = 0, mean = 0, median = 0, max = 0;
-  size_t pairs = 0, unmatched = 0;
-};
+namespace slamdunk::apps {
 
 struct RunFigures {
   SlamStatistics stats;
@@ -26,6 +23,7 @@ struct RunFigures {
 
 /// Peak resident memory of this process so far.
 long peakResidentKiB();
+/// Prints the report on stdout.
 void printRunSummary(const RunFigures& f, bool json);
 
-}  // namespace slamdunk
+}  // namespace slamdunk::apps

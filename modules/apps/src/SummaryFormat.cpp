@@ -1,0 +1,82 @@
+#include "SummaryFormat.h"
+
+#include <slamdunk/eval/TrajectoryMetrics.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace slamdunk::apps {
+
+std::optional<AteFigures> evaluateAte(const Trajectory& groundTruth, const Trajectory& estimate) {
+  if (estimate.size() < 3) return std::nullopt;
+  const auto ev = eval::TrajectoryMetrics::evaluate(groundTruth, estimate);
+  const eval::ErrorStatistics& s = ev.ate.stats;
+  return AteFigures{s.rmse, s.mean, s.median, s.max, ev.pairs, ev.unmatchedEstimatePoses};
+}
+
+namespace summary {
+
+double median(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).median; }
+double mean(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).mean; }
+double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
+double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p95; }
+double p99(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p99; }
+
+double rounded(double x, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(x * scale) / scale;
+}
+
+void addMs(Json& json, const std::vector<double>& ms,
+           std::initializer_list<std::pair<const char*, Stat>> keys) {
+  const eval::ErrorStatistics s = eval::ErrorStatistics::compute(ms);
+  for (const auto& [key, stat] : keys) {
+    const double values[] = {s.median, s.mean, s.p95, s.p99, s.max};
+    json[key] = rounded(values[static_cast<int>(stat)], 3);
+  }
+}
+
+void addSlamCounts(Json& json, const SlamStatistics& s) {
+  json["tracked_depth_only"] = s.trackedDepthOnly;
+  json["keyframes"] = s.keyframes;
+  json["optimizations"] = s.optimizations;
+  json["loop_closures"] = s.loopClosures;
+  json["relocalizations"] = s.relocalizations;
+  json["frames_out_of_order"] = s.framesOutOfOrder;
+}
+
+void addAte(Json& json, const AteFigures& ate) {
+  json["ate_rmse_m"] = rounded(ate.rmse, 6);
+  json["ate_mean_m"] = rounded(ate.mean, 6);
+  json["ate_median_m"] = rounded(ate.median, 6);
+  json["ate_max_m"] = rounded(ate.max, 6);
+  json["ate_pairs"] = ate.pairs;
+}
+
+void printJson(const Json& json) { std::printf("%s\n", json.dump(2).c_str()); }
+
+void printAteLine(const AteFigures& ate, int width, bool unmatched) {
+  std::printf("%-*s rmse %.4f m, mean %.4f, median %.4f, max %.4f (%zu pairs", width - 1,
+              "  ATE:", ate.rmse, ate.mean, ate.median, ate.max, ate.pairs);
+  if (unmatched) std::printf(", %zu estimated poses without ground truth", ate.unmatched);
+  std::printf(")\n");
+}
+
+void printTrackingProblems(const SlamStatistics& s, int width) {
+  const auto line = [width](const char* label, const std::string& text) {
+    std::printf("%-*s %s\n", width - 1, label, text.c_str());
+  };
+  for (const auto& why : s.lostReasons) line("    lost because:", why);
+  if (s.relocalizations > 0)
+    line("  relocalized:",
+         std::to_string(s.relocalizations) + " times (found again in the whole map)");
+  if (s.framesOutOfOrder > 0) {
+    line("  skipped:",
+         std::to_string(s.framesOutOfOrder) + " frames whose timestamp did not increase");
+    for (const auto& why : s.outOfOrderExamples) std::printf("    %s\n", why.c_str());
+  }
+}
+
+}  // namespace summary
+}  // namespace slamdunk::apps

@@ -1,0 +1,116 @@
+// apps::RawlogSlamRun driven as an application drives it: the same outputs as slamdunk-rawlog,
+// the callbacks on every frame, the frame log's columns, the figures of the summary.
+
+#include <slamdunk/apps/RawlogSlamRun.h>
+#include <slamdunk/core/TumTrajectory.h>
+
+#include "TestData.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+using namespace slamdunk;
+using namespace slamdunk::apps;
+
+namespace {
+
+std::string q(const std::string& s) { return test::shellQuote(s); }
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+/// A frame log's line without its timings (the columns whose names start with "ms_").
+std::string withoutTimings(const std::string& header, const std::string& line) {
+  std::stringstream names(header), values(line);
+  std::string out;
+  for (std::string name, value; std::getline(names, name, ',');) {
+    std::getline(values, value, ',');
+    if (name.rfind("ms_", 0) != 0) out += value + ",";
+  }
+  return out;
+}
+
+}  // namespace
+
+// The class writes what the program writes: the same trajectory, keyframes and frame log (but
+// for its timing columns), from the same options.
+TEST(RawlogSlamRun, WritesWhatSlamdunkRawlogWrites) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("RawlogSlamRun_AsTheApp");
+  RawlogRunOptions o;
+  o.rawlog = rawlog;
+  o.groundTruth = test::groundTruthOf(rawlog);
+  o.maxFrames = 60;
+  o.trajectory = dir + "/class.txt";
+  o.frameLog = dir + "/class.csv";
+  size_t framesSeen = 0, pauses = 0;
+  RawlogSlamRun run(o);
+  run.onFrame([&](const mrpt::obs::CObservation3DRangeScan& obs, const TrackingResult&) {
+    EXPECT_TRUE(obs.hasRangeImage);
+    ++framesSeen;
+  });
+  run.beforeFrame([&](size_t framesDone) {
+    EXPECT_EQ(framesDone, pauses++);
+    if (framesDone == 10) std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const RawlogRunResult result = run.run();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  EXPECT_TRUE(result.readError.empty()) << result.readError;
+  EXPECT_EQ(framesSeen, 60u);
+  EXPECT_EQ(pauses, 60u);
+  EXPECT_EQ(result.figures.stats.frames, 60u);
+  EXPECT_EQ(result.figures.stats.lost, 0u);
+  ASSERT_TRUE(result.figures.ate);
+  EXPECT_LT(result.figures.ate->rmse, 0.005);
+  EXPECT_LE(result.figures.wallSeconds, seconds - 0.3) << "the pause counted in the run's speed";
+
+  const test::CommandResult app = test::runCommand(
+      test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " -q --max-frames 60 --trajectory " +
+      q(dir + "/app.txt") + " --frame-log " + q(dir + "/app.csv"));
+  ASSERT_EQ(app.exitCode, 0) << app.output;
+  EXPECT_EQ(test::readFile(dir + "/class.txt"), test::readFile(dir + "/app.txt"));
+  EXPECT_EQ(test::readFile(dir + "/class_keyframes.txt"),
+            test::readFile(dir + "/app_keyframes.txt"));
+  const auto classLog = lines(dir + "/class.csv"), appLog = lines(dir + "/app.csv");
+  ASSERT_EQ(classLog.size(), 61u);
+  ASSERT_EQ(appLog.size(), 61u);
+  EXPECT_EQ(classLog[0], FrameCsvLog::kHeader);
+  EXPECT_EQ(appLog[0], FrameCsvLog::kHeader);
+  for (size_t i = 1; i < classLog.size(); ++i)
+    EXPECT_EQ(withoutTimings(classLog[0], classLog[i]), withoutTimings(appLog[0], appLog[i]))
+        << "line " << i;
+}
+
+// An output over an input is refused before anything is read or written, naming both.
+TEST(RawlogSlamRun, RefusesAnOutputOverAnInput) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
+  const std::string dir = test::scratchDir("RawlogSlamRun_Clash");
+  const std::string gt = dir + "/gt.txt";
+  fs::copy_file(test::groundTruthOf(rawlog), gt, fs::copy_options::overwrite_existing);
+  RawlogRunOptions o;
+  o.rawlog = rawlog;
+  o.groundTruth = gt;
+  o.trajectory = dir + "/t.txt";
+  o.frameLog = gt;
+  try {
+    RawlogSlamRun run(o);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--frame-log '" + gt + "' is the input --gt"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(test::readFile(gt), test::readFile(test::groundTruthOf(rawlog)));
+}
