@@ -3,6 +3,7 @@
 // picks itself, gone with the object. Tests skip, saying why, where it cannot start.
 
 #include "ChildProcess.h"
+#include "TestData.h"
 
 #include <opencv2/core.hpp>
 
@@ -45,3 +46,13 @@ int colouredPixels(const cv::Mat& bgr, int hueFrom, int hueTo);
 int pixelsNear(const cv::Mat& bgr, const cv::Vec3b& colour, int tolerance);
 
 }  // namespace slamdunk::test
+
+/// Declares `display`, a VirtualDisplay whose server writes to `dir`/xvfb.log. Skips (or fails,
+/// see SLAMDUNK_SKIP) the current test where a tool it needs is missing (missingDisplayTools(),
+/// given the test's own programs, if any) or the server does not start.
+#define REQUIRE_VIRTUAL_DISPLAY(display, dir, ...)                                                \
+  if (const auto why = ::slamdunk::test::missingDisplayTools({__VA_ARGS__})) SLAMDUNK_SKIP(*why); \
+  ::slamdunk::test::VirtualDisplay display((dir) + "/xvfb.log");                                  \
+  if (display.name().empty())                                                                     \
+  SLAMDUNK_SKIP(                                                                                  \
+      "no X server could be started (Xvfb): " << ::slamdunk::test::readFile((dir) + "/xvfb.log"))

@@ -20,6 +20,14 @@ using test::readFile;
 size_t entries(const std::string& dir) {
   return static_cast<size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
+
+/// dir/out, a folder the user already has (holding old.txt): what an AtomicOutputFolder replaces.
+std::string existingFolder(const std::string& dir) {
+  const std::string folder = dir + "/out";
+  fs::create_directories(folder);
+  std::ofstream(folder + "/old.txt") << "old";
+  return folder;
+}
 }  // namespace
 
 TEST(StagedOutputs, ReplaceTheirTargetsTogetherOnlyOnCommit) {
@@ -117,9 +125,7 @@ TEST(AtomicOutputChecks, WriteErrorMessageNamesTheTargetNotTheStagedFile) {
 
 TEST(AtomicOutputFolder, ReplacesAnExistingFolderWhole) {
   const std::string dir = test::scratchDir("AtomicOutputFolder_Replace");
-  const std::string target = dir + "/out";
-  fs::create_directories(target);
-  std::ofstream(target + "/old.txt") << "old";
+  const std::string target = existingFolder(dir);
   {
     AtomicOutputFolder out(target);
     std::ofstream(out.tempPath() + "/new.txt") << "new";
@@ -133,9 +139,7 @@ TEST(AtomicOutputFolder, ReplacesAnExistingFolderWhole) {
 
 TEST(AtomicOutputFolder, WithoutCommitTheTargetStaysAndTheTemporaryGoes) {
   const std::string dir = test::scratchDir("AtomicOutputFolder_NoCommit");
-  const std::string target = dir + "/out";
-  fs::create_directories(target);
-  std::ofstream(target + "/old.txt") << "old";
+  const std::string target = existingFolder(dir);
   {
     AtomicOutputFolder out(target);
     std::ofstream(out.tempPath() + "/new.txt") << "new";

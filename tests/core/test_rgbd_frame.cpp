@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include <initializer_list>
+
 using namespace slamdunk;
 
 namespace {
@@ -37,6 +39,22 @@ mrpt::obs::CObservation3DRangeScan::Ptr makeObservation(int w, int h) {
   obs->cameraParamsIntensity = K.toTCamera();
   obs->cameraParams = obs->cameraParamsIntensity;
   return obs;
+}
+
+/// RgbdFrame::fromObservation() refuses `obs`, with a message naming every one of `parts`.
+::testing::AssertionResult refusedNaming(const mrpt::obs::CObservation3DRangeScan& obs,
+                                         std::initializer_list<std::string> parts) {
+  try {
+    RgbdFrame::fromObservation(obs);
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    std::string missing;
+    for (const std::string& part : parts)
+      if (what.find(part) == std::string::npos) missing += " '" + part + "'";
+    if (missing.empty()) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "refused, but without" << missing << ": " << what;
+  }
+  return ::testing::AssertionFailure() << "accepted";
 }
 }  // namespace
 
@@ -71,12 +89,7 @@ TEST(RgbdFrame, RejectsInconsistentObservations) {
 
   auto wrongSize = makeObservation(32, 24);
   wrongSize->rangeImage_setSize(12, 16);
-  try {
-    RgbdFrame::fromObservation(*wrongSize);
-    FAIL() << "size mismatch accepted";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("16x12"), std::string::npos) << e.what();
-  }
+  EXPECT_TRUE(refusedNaming(*wrongSize, {"16x12"})) << "size mismatch";
 }
 
 // Intrinsics of another resolution than the image (a 640x480 calibration on a 320x240 stream)
@@ -85,15 +98,9 @@ TEST(RgbdFrame, RejectsIntrinsicsOfAnotherResolution) {
   auto halfSize = makeObservation(64, 48);
   halfSize->cameraParamsIntensity.ncols = 128;
   halfSize->cameraParamsIntensity.nrows = 96;
-  try {
-    RgbdFrame::fromObservation(*halfSize);
-    FAIL() << "colour intrinsics of another resolution accepted";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("at t=12.5"), std::string::npos) << what;
-    EXPECT_NE(what.find("colour image is 64x48"), std::string::npos) << what;
-    EXPECT_NE(what.find("cameraParamsIntensity) are for 128x96"), std::string::npos) << what;
-  }
+  EXPECT_TRUE(refusedNaming(
+      *halfSize, {"at t=12.5", "colour image is 64x48", "cameraParamsIntensity) are for 128x96"}))
+      << "colour intrinsics of another resolution";
 
   // Depth registered to colour: the depth camera's intrinsics must fit the depth image too.
   auto depthCamera = makeObservation(64, 48);
@@ -101,14 +108,9 @@ TEST(RgbdFrame, RejectsIntrinsicsOfAnotherResolution) {
       mrpt::poses::CPose3D(0.025, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
   depthCamera->cameraParams.ncols = 640;
   depthCamera->cameraParams.nrows = 480;
-  try {
-    RgbdFrame::fromObservation(*depthCamera);
-    FAIL() << "depth intrinsics of another resolution accepted";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("depth image is 64x48"), std::string::npos) << what;
-    EXPECT_NE(what.find("cameraParams) are for 640x480"), std::string::npos) << what;
-  }
+  EXPECT_TRUE(
+      refusedNaming(*depthCamera, {"depth image is 64x48", "cameraParams) are for 640x480"}))
+      << "depth intrinsics of another resolution";
 
   // A resolution left unset by a driver is the image's.
   auto unset = makeObservation(64, 48);

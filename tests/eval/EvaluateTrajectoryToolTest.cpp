@@ -4,6 +4,7 @@
 #include <slamdunk/eval/TrajectoryMetrics.h>
 
 #include <TestData.h>
+#include <ToolTest.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,28 +29,21 @@ Trajectory circle(std::size_t n, double rate, double t0) {
   return traj;
 }
 
-std::string command(const std::string& args) {
-  return "\"" + toolPath("evaluate-trajectory") + "\" " + args;
-}
-
-std::string shellQuoted(const std::string& path) { return "\"" + path + "\""; }
-
 }  // namespace
 
-class EvaluateTrajectoryTool : public ::testing::Test {
+class EvaluateTrajectoryTool : public ToolTest {
  protected:
+  EvaluateTrajectoryTool() : ToolTest("evaluate-trajectory") {}
   void SetUp() override {
-    if (!std::ifstream(toolPath("evaluate-trajectory")).good())
-      SLAMDUNK_SKIP("tool not built: " << toolPath("evaluate-trajectory"));
-    dir = scratchDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    ToolTest::SetUp();
     gtPath = dir + "/gt.txt";
     estPath = dir + "/est.txt";
   }
-  std::string dir, gtPath, estPath;
+  std::string gtPath, estPath;
 };
 
 TEST_F(EvaluateTrajectoryTool, HelpExplainsAndExitsZero) {
-  const CommandResult r = runCommand(command("--help"));
+  const CommandResult r = run("--help");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("--max-dt"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--rpe-delta"), std::string::npos) << r.output;
@@ -76,8 +70,7 @@ TEST_F(EvaluateTrajectoryTool, JsonMatchesLibrary) {
   ASSERT_TRUE(ref.rpe.valid);
   ASSERT_GT(ref.ate.stats.rmse, 1e-3);
 
-  const CommandResult r =
-      runCommand(command("--json " + shellQuoted(gtPath) + " " + shellQuoted(estPath)));
+  const CommandResult r = run("--json " + shellQuote(gtPath) + " " + shellQuote(estPath));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output.front(), '{') << r.output;
   EXPECT_EQ(jsonValue(r.output, "pairs"), 600);
@@ -109,7 +102,7 @@ TEST_F(EvaluateTrajectoryTool, JsonMatchesLibrary) {
 TEST_F(EvaluateTrajectoryTool, HumanReadableOutput) {
   const Trajectory gt = circle(300, 30.0, 5.0);
   writeTumTrajectory(gtPath, gt);
-  const CommandResult r = runCommand(command(shellQuoted(gtPath) + " " + shellQuoted(gtPath)));
+  const CommandResult r = run(shellQuote(gtPath) + " " + shellQuote(gtPath));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("rmse"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("pairs associated"), std::string::npos) << r.output;
@@ -122,7 +115,7 @@ TEST_F(EvaluateTrajectoryTool, MalformedLineNamesFileAndLine) {
   std::ofstream(estPath) << "# estimate\n"
                          << "0.0 0 0 0 0 0 0 1\n"
                          << "0.033333 0 0 oops 0 0 0 1\n";
-  const CommandResult r = runCommand(command(shellQuoted(gtPath) + " " + shellQuoted(estPath)));
+  const CommandResult r = run(shellQuote(gtPath) + " " + shellQuote(estPath));
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_LT(r.exitCode, 128) << "crashed: " << r.output;
   EXPECT_NE(r.output.find(estPath + ":3"), std::string::npos) << r.output;
@@ -131,7 +124,7 @@ TEST_F(EvaluateTrajectoryTool, MalformedLineNamesFileAndLine) {
 TEST_F(EvaluateTrajectoryTool, MissingFileIsAClearError) {
   writeTumTrajectory(gtPath, circle(100, 30.0, 0.0));
   const std::string missing = dir + "/no-such-estimate.txt";
-  const CommandResult r = runCommand(command(shellQuoted(gtPath) + " " + shellQuoted(missing)));
+  const CommandResult r = run(shellQuote(gtPath) + " " + shellQuote(missing));
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_LT(r.exitCode, 128) << "crashed: " << r.output;
   EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
@@ -141,8 +134,7 @@ TEST_F(EvaluateTrajectoryTool, MissingFileIsAClearError) {
 TEST_F(EvaluateTrajectoryTool, NoAssociatedPairsIsAClearError) {
   writeTumTrajectory(gtPath, circle(100, 30.0, 0.0));
   writeTumTrajectory(estPath, circle(100, 30.0, 500.0));
-  const CommandResult r =
-      runCommand(command("--json " + shellQuoted(gtPath) + " " + shellQuoted(estPath)));
+  const CommandResult r = run("--json " + shellQuote(gtPath) + " " + shellQuote(estPath));
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_LT(r.exitCode, 128) << "crashed: " << r.output;
   EXPECT_NE(r.output.find("no pose pairs associated"), std::string::npos) << r.output;
@@ -151,7 +143,7 @@ TEST_F(EvaluateTrajectoryTool, NoAssociatedPairsIsAClearError) {
 TEST_F(EvaluateTrajectoryTool, TooFewPairsIsAClearError) {
   writeTumTrajectory(gtPath, circle(100, 30.0, 0.0));
   writeTumTrajectory(estPath, circle(2, 30.0, 0.0));
-  const CommandResult r = runCommand(command(shellQuoted(gtPath) + " " + shellQuoted(estPath)));
+  const CommandResult r = run(shellQuote(gtPath) + " " + shellQuote(estPath));
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_LT(r.exitCode, 128) << "crashed: " << r.output;
   EXPECT_NE(r.output.find("at least 3"), std::string::npos) << r.output;
@@ -160,8 +152,7 @@ TEST_F(EvaluateTrajectoryTool, TooFewPairsIsAClearError) {
 TEST_F(EvaluateTrajectoryTool, ShortEstimateReportsRpeNotEnoughSpan) {
   writeTumTrajectory(gtPath, circle(100, 30.0, 0.0));
   writeTumTrajectory(estPath, circle(20, 30.0, 0.0));  // 0.63 s
-  const CommandResult r =
-      runCommand(command("--json " + shellQuoted(gtPath) + " " + shellQuoted(estPath)));
+  const CommandResult r = run("--json " + shellQuote(gtPath) + " " + shellQuote(estPath));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_LT(jsonValue(r.output, "ate_rmse_m"), 1e-6);
   EXPECT_TRUE(std::isnan(jsonValue(r.output, "rpe_trans_rmse_m_per_s"))) << r.output;
@@ -170,8 +161,7 @@ TEST_F(EvaluateTrajectoryTool, ShortEstimateReportsRpeNotEnoughSpan) {
 
 TEST_F(EvaluateTrajectoryTool, BadOptionValueFails) {
   writeTumTrajectory(gtPath, circle(100, 30.0, 0.0));
-  const CommandResult r =
-      runCommand(command("--max-dt -1 " + shellQuoted(gtPath) + " " + shellQuoted(gtPath)));
+  const CommandResult r = run("--max-dt -1 " + shellQuote(gtPath) + " " + shellQuote(gtPath));
   EXPECT_NE(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("--max-dt"), std::string::npos) << r.output;
 }

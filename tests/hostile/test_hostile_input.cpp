@@ -17,6 +17,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
@@ -29,6 +31,10 @@ struct AppRun {
   test::CommandResult result;
   std::string trajectory, frameLog;
   double value(const std::string& key) const { return test::jsonValue(result.output, key); }
+  /// Each key of its --json summary has the value given.
+  void expectValues(const std::vector<std::pair<std::string, double>>& expected) const {
+    for (const auto& [key, v] : expected) EXPECT_EQ(value(key), v) << key << "\n" << result.output;
+  }
 };
 
 /// slamdunk-rawlog on `rawlog`, outputs in `dir`, with a frame log.
@@ -121,10 +127,7 @@ TEST(HostileInput, RepeatedOrBackwardTimestampsAreSkippedOffline) {
   const std::string dir = test::scratchDir("Hostile_StampsOffline");
   const AppRun r = runRawlogApp(rawlogWithBadStamps(src, dir), dir, "--json");
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
-  EXPECT_EQ(r.value("frames_out_of_order"), 2) << r.result.output;
-  EXPECT_EQ(r.value("frames"), 58) << r.result.output;
-  EXPECT_EQ(r.value("tracked"), 58) << r.result.output;
-  EXPECT_EQ(r.value("lost"), 0) << r.result.output;
+  r.expectValues({{"frames_out_of_order", 2}, {"frames", 58}, {"tracked", 58}, {"lost", 0}});
   for (const char* warning : {"warning: frame 20: timestamp ", "is not after frame 19's",
                               "warning: frame 40: timestamp ", "is not after frame 39's"})
     EXPECT_NE(r.result.output.find(warning), std::string::npos) << warning << r.result.output;
@@ -141,9 +144,7 @@ TEST(HostileInput, RepeatedOrBackwardTimestampsAreSkippedLive) {
   const std::string dir = test::scratchDir("Hostile_StampsLive");
   const AppRun r = runLiveApp(rawlogWithBadStamps(src, dir), dir, "--json -q");
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
-  EXPECT_EQ(r.value("frames_received"), 60) << r.result.output;
-  EXPECT_EQ(r.value("frames_processed"), 60) << r.result.output;
-  EXPECT_EQ(r.value("frames_out_of_order"), 2) << r.result.output;
+  r.expectValues({{"frames_received", 60}, {"frames_processed", 60}, {"frames_out_of_order", 2}});
   EXPECT_EQ(r.value("tracked") + r.value("lost"), 58) << r.result.output;
   const Trajectory t = expectIncreasingTum(r.trajectory);
   EXPECT_EQ(t.size(), r.value("tracked"));

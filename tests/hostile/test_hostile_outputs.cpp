@@ -52,9 +52,10 @@ std::map<std::string, std::string> snapshot(const std::string& dir) {
   return files;
 }
 
-/// "Earlier files": a marker for each name, in `dir`; returns the snapshot.
+/// "Earlier files": a marker for each name, in `dir` (created if need be); returns the snapshot.
 std::map<std::string, std::string> writeEarlierFiles(const std::string& dir,
                                                      const std::vector<std::string>& names) {
+  fs::create_directories(dir);
   for (const auto& n : names) std::ofstream(dir + "/" + n) << "earlier " << n << ", keep me\n";
   return snapshot(dir);
 }
@@ -70,6 +71,16 @@ void expectUnchanged(const std::map<std::string, std::string>& before, const std
   }
   for (const auto& [name, content] : after)
     EXPECT_TRUE(before.count(name)) << name << " was left behind (" << content.size() << " bytes)";
+}
+
+/// A run that failed (exit code 1) saying each of `messages`, leaving `dir` as it was `before`.
+void expectFailedAndUnchanged(const test::CommandResult& r, const std::string& dir,
+                              const std::map<std::string, std::string>& before,
+                              const std::vector<std::string>& messages) {
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  for (const std::string& m : messages)
+    EXPECT_NE(r.output.find(m), std::string::npos) << m << "\n" << r.output;
+  expectUnchanged(before, dir);
 }
 
 /// Mounts made after this stay private to this test process (and its children) and vanish
@@ -93,6 +104,14 @@ std::string mountSmallDisk(const std::string& dir, size_t kib) {
     return "mount -t tmpfs -o " + options + ": " + std::strerror(errno);
   return {};
 }
+
+/// Creates `dir` as a tmpfs of `kib` KiB, or skips (or fails, see SLAMDUNK_SKIP) the test where
+/// mounting is not allowed.
+#define REQUIRE_SMALL_DISK(dir, kib)                                   \
+  fs::create_directories(dir);                                         \
+  if (const std::string why = mountSmallDisk(dir, kib); !why.empty())  \
+  SLAMDUNK_SKIP("this machine does not allow mounting a small tmpfs (" \
+                << why << "); the file size limit test covers the same code")
 
 /// Makes `dir` unwritable for the apps; empty on success, else why not.
 std::string makeReadOnly(const std::string& dir) {
@@ -153,24 +172,19 @@ TEST(HostileOutputs, ReadOnlyOutputFolderIsNamedAtOnceAndKeepsItsFiles) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string base = test::scratchDir("HostileOut_ReadOnly");
   const std::string dir = base + "/out";
-  fs::create_directories(dir);
   const auto rawlogBefore = writeEarlierFiles(dir, kRawlogOutputs);
   if (const std::string why = makeReadOnly(dir); !why.empty())
     SLAMDUNK_SKIP("cannot make a read-only folder here (" << why << ")");
 
   const auto t0 = std::chrono::steady_clock::now();
-  const auto offline = test::runCommand(rawlogCommand(rawlog, dir));
-  EXPECT_EQ(offline.exitCode, 1) << offline.output;
-  EXPECT_NE(offline.output.find("output folder '" + dir + "' is not writable"), std::string::npos)
-      << offline.output;
+  const std::string notWritable = "output folder '" + dir + "' is not writable";
+  expectFailedAndUnchanged(test::runCommand(rawlogCommand(rawlog, dir)), dir, rawlogBefore,
+                           {notWritable});
   // Checked before the run, not after minutes of work.
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20);
 
-  const auto live = test::runCommand(liveCommand(rawlog, dir, base));
-  EXPECT_EQ(live.exitCode, 1) << live.output;
-  EXPECT_NE(live.output.find("output folder '" + dir + "' is not writable"), std::string::npos)
-      << live.output;
-  expectUnchanged(rawlogBefore, dir);
+  expectFailedAndUnchanged(test::runCommand(liveCommand(rawlog, dir, base)), dir, rawlogBefore,
+                           {notWritable});
 }
 
 // ------------------------------------------------------------------ slamdunk-rawlog
@@ -179,19 +193,13 @@ TEST(HostileOutputs, ReadOnlyOutputFolderIsNamedAtOnceAndKeepsItsFiles) {
 TEST(HostileOutputs, OfflineFullDiskReplacesNothing) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("HostileOut_OfflineDisk") + "/disk";
-  fs::create_directories(dir);
   // 11 earlier files take 44 KiB (a page each); 64 KiB more: room for the trajectories and the
   // frame log, not for the map (about 150 KB here) nor the dense cloud (about 1 MB).
-  if (const std::string why = mountSmallDisk(dir, 44 + 64); !why.empty())
-    SLAMDUNK_SKIP("this machine does not allow mounting a small tmpfs ("
-                  << why << "); the file size limit test covers the same code");
+  REQUIRE_SMALL_DISK(dir, 44 + 64);
   const auto before = writeEarlierFiles(dir, kRawlogOutputs);
   const auto r = test::runCommand(rawlogCommand(rawlog, dir));
-  EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("error: cannot write '" + dir + "/m.map'"), std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("KiB free in '" + dir + "'"), std::string::npos) << r.output;
-  expectUnchanged(before, dir);
+  expectFailedAndUnchanged(
+      r, dir, before, {"error: cannot write '" + dir + "/m.map'", "KiB free in '" + dir + "'"});
 }
 
 TEST(HostileOutputs, OfflineFileSizeLimitReplacesNothing) {
@@ -199,11 +207,9 @@ TEST(HostileOutputs, OfflineFileSizeLimitReplacesNothing) {
   const std::string dir = test::scratchDir("HostileOut_OfflineLimit");
   const auto before = writeEarlierFiles(dir, kRawlogOutputs);
   const auto r = test::runCommand(withFileSizeLimit(64, rawlogCommand(rawlog, dir)));
-  EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("error: cannot write '" + dir + "/m.map'"), std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("file size limit (ulimit -f) 64 KiB"), std::string::npos) << r.output;
-  expectUnchanged(before, dir);
+  expectFailedAndUnchanged(
+      r, dir, before,
+      {"error: cannot write '" + dir + "/m.map'", "file size limit (ulimit -f) 64 KiB"});
 }
 
 // The last kilobyte of a compressed map fails to reach the disk: zlib reports that when the file
@@ -222,17 +228,14 @@ TEST(HostileOutputs, MapCutShortInItsLastKilobyteIsAnError) {
   const size_t mapBytes = fs::file_size(reference + "/m.map");
   ASSERT_GT(mapBytes, 4096u);
   const std::string out = dir + "/out";
-  fs::create_directories(out);
   const auto before = writeEarlierFiles(out, {"t.txt", "t_keyframes.txt", "m.map"});
   // The same deterministic run, limited to the map's size rounded down to whole KiB.
   const size_t limitKiB = (mapBytes - 1) / 1024;
   const auto r = test::runCommand(withFileSizeLimit(
       limitKiB, test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " --trajectory " +
                     q(out + "/t.txt") + args + q(out + "/m.map")));
-  EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("cannot write '" + out + "/m.map'"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("was not written completely"), std::string::npos) << r.output;
-  expectUnchanged(before, out);
+  expectFailedAndUnchanged(r, out, before,
+                           {"cannot write '" + out + "/m.map'", "was not written completely"});
 }
 
 // ------------------------------------------------------------------ slamdunk-live
@@ -269,12 +272,9 @@ TEST(HostileOutputs, LiveFullDiskWritesWhatFitsAndKeepsTheRest) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string base = test::scratchDir("HostileOut_LiveDisk");
   const std::string dir = base + "/disk";
-  fs::create_directories(dir);
   // 5 earlier files (20 KiB) and 64 KiB: the recording (about 1 MB a frame) fills the disk
   // early in the session; it must give that space back for the trajectory.
-  if (const std::string why = mountSmallDisk(dir, 20 + 64); !why.empty())
-    SLAMDUNK_SKIP("this machine does not allow mounting a small tmpfs ("
-                  << why << "); the file size limit test covers the same code");
+  REQUIRE_SMALL_DISK(dir, 20 + 64);
   const auto before = writeEarlierFiles(dir, kLiveOutputs);
   const auto r = test::runCommand(liveCommand(rawlog, dir, base));
   expectLiveWroteWhatFitted(r, dir, before, "KiB free in '" + dir + "'");
@@ -284,7 +284,6 @@ TEST(HostileOutputs, LiveFileSizeLimitWritesWhatFitsAndKeepsTheRest) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string base = test::scratchDir("HostileOut_LiveLimit");
   const std::string dir = base + "/out";
-  fs::create_directories(dir);
   const auto before = writeEarlierFiles(dir, kLiveOutputs);
   const auto r = test::runCommand(withFileSizeLimit(64, liveCommand(rawlog, dir, base)));
   expectLiveWroteWhatFitted(r, dir, before, "file size limit (ulimit -f) 64 KiB");

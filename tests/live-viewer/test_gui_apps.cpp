@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -88,6 +89,23 @@ ScreenContent waitForContent(const test::VirtualDisplay& display, const std::str
   return c;
 }
 
+/// waitForContent(), expecting the least it waits for; what the screen showed.
+ScreenContent expectOnScreen(const test::VirtualDisplay& display, const std::string& png,
+                             int frustums, int camera, int coloured) {
+  const ScreenContent c = waitForContent(display, png, frustums, camera, coloured, 120);
+  EXPECT_GE(c.frustums, frustums) << "no keyframe frustums on the screen";
+  EXPECT_GE(c.camera, camera) << "no current camera on the screen";
+  EXPECT_GE(c.coloured, coloured) << "the map's cloud is not on the screen";
+  return c;
+}
+
+/// The app's viewer window, titled `title`, appears (see kWindowThreadSeconds).
+::testing::AssertionResult windowOpens(const test::VirtualDisplay& display,
+                                       const std::string& title, const std::string& log) {
+  if (display.waitForWindow(title, kWindowThreadSeconds)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "no viewer window '" << title << "':\n" << readFile(log);
+}
+
 /// The offline app's runs here take the synthetic loop's first 150 frames (its first turn, 13
 /// keyframes): what the window shows and the keys do does not need the whole loop, and beside
 /// busy loops (scripts/repeat-gui-tests.sh) every keyframe costs the starved window thread.
@@ -100,6 +118,25 @@ std::string referenceRun(const std::string& rawlog, const std::string& dir) {
                                   q(t) + " --max-frames " + kFrames + " -q");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   return readFile(t);
+}
+
+/// The offline app on the loop's first kFrames frames with its viewer on `display` and
+/// `guiOptions`; its trajectory to `trajectory`, its output to `log`.
+std::unique_ptr<test::ChildProcess> startOfflineGui(const test::VirtualDisplay& display,
+                                                    const std::string& rawlog,
+                                                    const std::string& trajectory,
+                                                    const std::string& log,
+                                                    const std::vector<std::string>& guiOptions) {
+  std::vector<std::string> argv = {test::toolPath("slamdunk-rawlog"),
+                                   rawlog,
+                                   "-t",
+                                   trajectory,
+                                   "--max-frames",
+                                   kFrames,
+                                   "--gui"};
+  argv.insert(argv.end(), guiOptions.begin(), guiOptions.end());
+  return std::make_unique<test::ChildProcess>(
+      argv, std::vector<std::string>{"DISPLAY=" + display.name()}, log);
 }
 
 /// Body lines of a TUM file (its header names the run's inputs, which may differ).
@@ -123,13 +160,9 @@ std::string poses(const std::string& tum) {
 #define SKIP_IF_SANITIZED() (void)0
 #endif
 
-#define REQUIRE_DISPLAY(display, dir)                                                \
-  SKIP_IF_SANITIZED();                                                               \
-  if (const auto why = test::missingDisplayTools({"xdotool"})) SLAMDUNK_SKIP(*why);  \
-  test::VirtualDisplay display(dir + "/xvfb.log");                                   \
-  if (display.name().empty())                                                        \
-  SLAMDUNK_SKIP("no X server could be started (Xvfb), --gui cannot be tested here: " \
-                << readFile(dir + "/xvfb.log"))
+#define REQUIRE_DISPLAY(display, dir) \
+  SKIP_IF_SANITIZED();                \
+  REQUIRE_VIRTUAL_DISPLAY(display, dir, "xdotool")
 
 TEST(GuiApps, RawlogGuiShowsTheMapAndLeavesTheResultsUnchanged) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
@@ -138,29 +171,23 @@ TEST(GuiApps, RawlogGuiShowsTheMapAndLeavesTheResultsUnchanged) {
   const std::string reference = referenceRun(rawlog, dir);
 
   const std::string log = dir + "/app.log";
-  test::ChildProcess app({test::toolPath("slamdunk-rawlog"), rawlog, "-t", dir + "/gui.txt",
-                          "--max-frames", kFrames, "--gui", "--gui-wait", "--json"},
-                         {"DISPLAY=" + display.name()}, log);
-  ASSERT_TRUE(app.started());
+  const auto app =
+      startOfflineGui(display, rawlog, dir + "/gui.txt", log, {"--gui-wait", "--json"});
+  ASSERT_TRUE(app->started());
   const std::string title = "SlamDunk - synthetic_loop.rawlog";
-  ASSERT_TRUE(display.waitForWindow(title, kWindowThreadSeconds)) << "no viewer window:\n"
-                                                                  << readFile(log);
+  ASSERT_TRUE(windowOpens(display, title, log));
   // The run ends, the final map is drawn and the window stays (--gui-wait).
   ASSERT_TRUE(waitForText(log, "close the viewer window", 180)) << readFile(log);
   // The cloud is each keyframe's subsampled depth: its dots cover about 1/20-1/35 of the
   // window, depending on where the view follows the camera (the frustums, edges and status
   // line alone cover far less).
-  const ScreenContent c =
-      waitForContent(display, dir + "/screen.png", 50, 20, 1024 * 640 / 50, 120);
+  const ScreenContent c = expectOnScreen(display, dir + "/screen.png", 50, 20, 1024 * 640 / 50);
   std::printf("rawlog --gui (%s/screen.png): frustums %d, camera %d, coloured %d\n", dir.c_str(),
               c.frustums, c.camera, c.coloured);
-  EXPECT_GE(c.frustums, 50) << "no keyframe frustums on the screen";
-  EXPECT_GE(c.camera, 20) << "no current camera on the screen";
-  EXPECT_GE(c.coloured, 1024 * 640 / 50) << "the map's cloud is not on the screen";
 
   // q closes the window and the app ends normally.
   EXPECT_TRUE(display.sendKey(title, "q"));
-  EXPECT_EQ(app.wait(kWindowThreadSeconds), 0) << readFile(log);
+  EXPECT_EQ(app->wait(kWindowThreadSeconds), 0) << readFile(log);
   EXPECT_EQ(poses(readFile(dir + "/gui.txt")), poses(reference))
       << "the offline results changed with the viewer";
 }
@@ -172,12 +199,9 @@ TEST(GuiApps, RawlogKeysPauseAndStepAndTheResultsStayTheSame) {
   const std::string reference = referenceRun(rawlog, dir);
 
   const std::string log = dir + "/app.log";
-  test::ChildProcess app({test::toolPath("slamdunk-rawlog"), rawlog, "-t", dir + "/keys.txt",
-                          "--max-frames", kFrames, "--gui", "--gui-paused"},
-                         {"DISPLAY=" + display.name()}, log);
+  const auto app = startOfflineGui(display, rawlog, dir + "/keys.txt", log, {"--gui-paused"});
   const std::string title = "SlamDunk - synthetic_loop.rawlog";
-  ASSERT_TRUE(display.waitForWindow(title, kWindowThreadSeconds)) << "no viewer window:\n"
-                                                                  << readFile(log);
+  ASSERT_TRUE(windowOpens(display, title, log));
   // The frames before which the app paused, in the order of its log ("paused before frame N",
   // printed each time it waits while paused).
   const auto pauses = [&] {
@@ -196,7 +220,7 @@ TEST(GuiApps, RawlogKeysPauseAndStepAndTheResultsStayTheSame) {
   };
   // --gui-paused: nothing is processed until a key says so; the app holds the first frame.
   ASSERT_TRUE(waitUntil([&] { return !pauses().empty(); }, 30)) << "no pause:\n" << readFile(log);
-  EXPECT_TRUE(app.alive());
+  EXPECT_TRUE(app->alive());
   EXPECT_EQ(pauses(), upTo(0)) << readFile(log);
   // Each step lets exactly one frame through: the next pause is before the next frame, every
   // frame paused before once, none skipped.
@@ -211,7 +235,7 @@ TEST(GuiApps, RawlogKeysPauseAndStepAndTheResultsStayTheSame) {
   }
   // Space runs; the run ends on its own, with the same trajectory as without the viewer.
   ASSERT_TRUE(display.sendKey(title, "space"));
-  EXPECT_EQ(app.wait(180), 0) << readFile(log);
+  EXPECT_EQ(app->wait(180), 0) << readFile(log);
   // While paused, only the steps let frames through: the app paused before frames 0-3, each
   // once, and before no other frame (space ran the rest).
   EXPECT_EQ(pauses(), upTo(steps)) << "frames went on while paused:\n" << readFile(log);
@@ -233,19 +257,14 @@ TEST(GuiApps, LiveGuiShowsTheSession) {
        dir + "/live.txt", "--max-frames", "240", "--gui", "--gui-wait", "--json"},
       {"DISPLAY=" + display.name()}, log);
   const std::string title = "SlamDunk live - replay of";
-  ASSERT_TRUE(display.waitForWindow(title, kWindowThreadSeconds)) << "no viewer window:\n"
-                                                                  << readFile(log);
+  ASSERT_TRUE(windowOpens(display, title, log));
   ASSERT_TRUE(waitForText(log, "keyframes", 30)) << readFile(log);
   // Usually while the session runs; on a machine busy with other work, perhaps only after it.
-  const ScreenContent c =
-      waitForContent(display, dir + "/screen.png", 20, 20, 1024 * 640 / 40, 120);
+  const ScreenContent c = expectOnScreen(display, dir + "/screen.png", 20, 20, 1024 * 640 / 40);
   const bool whileRunning = readFile(log).find("close the viewer window") == std::string::npos;
   std::printf("live --gui (%s/screen.png, %s): frustums %d, camera %d, coloured %d\n", dir.c_str(),
               whileRunning ? "while the session ran" : "after it ended", c.frustums, c.camera,
               c.coloured);
-  EXPECT_GE(c.frustums, 20);
-  EXPECT_GE(c.camera, 20);
-  EXPECT_GE(c.coloured, 1024 * 640 / 40);
   ASSERT_TRUE(waitForText(log, "close the viewer window", 90)) << readFile(log);
   EXPECT_TRUE(display.sendKey(title, "q"));
   EXPECT_EQ(app.wait(kWindowThreadSeconds), 0) << readFile(log);

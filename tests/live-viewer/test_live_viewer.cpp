@@ -86,6 +86,15 @@ class Frame {
 
 /// A frame that must go through without waiting for anyone.
 bool passes(PlaybackControl& control) { return Frame(control).passed(); }
+
+/// A frame that must wait until `letGo` (togglePause, step or release) is called, and then go.
+::testing::AssertionResult heldUntil(PlaybackControl& control, void (PlaybackControl::*letGo)()) {
+  Frame next(control);
+  if (!next.held()) return ::testing::AssertionFailure() << "it went through without waiting";
+  (control.*letGo)();
+  if (!next.passed()) return ::testing::AssertionFailure() << "it was held, then never let go";
+  return ::testing::AssertionSuccess();
+}
 }  // namespace
 
 // Each test ASSERTs: a frame let go by a failed check (~Frame releases the control) would
@@ -96,10 +105,8 @@ TEST(PlaybackControl, RunsUntilPausedThenStepsOneFrameAtATime) {
   EXPECT_EQ(c.waiting(), 0u);
   c.togglePause();
   EXPECT_TRUE(c.paused());
-  Frame next(c);
-  ASSERT_TRUE(next.held()) << "paused: the next frame waits";
-  c.togglePause();
-  ASSERT_TRUE(next.passed()) << "resumed: the held frame goes";
+  ASSERT_TRUE(heldUntil(c, &PlaybackControl::togglePause))
+      << "paused: the next frame waits; resumed: it goes";
   EXPECT_FALSE(c.paused());
   ASSERT_TRUE(passes(c)) << "resumed: no waiting";
 }
@@ -110,20 +117,14 @@ TEST(PlaybackControl, StepLetsExactlyOneFrameThrough) {
   c.step();
   ASSERT_TRUE(passes(c)) << "the step's frame";
   EXPECT_TRUE(c.paused()) << "still paused after the step";
-  {
-    Frame next(c);
-    ASSERT_TRUE(next.held()) << "one step, one frame: the next one went through too";
-    c.step();
-    ASSERT_TRUE(next.passed()) << "a step lets the held frame go";
-  }
+  ASSERT_TRUE(heldUntil(c, &PlaybackControl::step))
+      << "one step, one frame: the next one waits, until the next step";
   c.step();
   c.step();
   ASSERT_TRUE(passes(c)) << "two steps: the first frame";
   ASSERT_TRUE(passes(c)) << "two steps: the second frame";
-  Frame third(c);
-  ASSERT_TRUE(third.held()) << "two steps, two frames: a third one went through too";
-  c.release();
-  ASSERT_TRUE(third.passed()) << "release() lets a held frame go";
+  ASSERT_TRUE(heldUntil(c, &PlaybackControl::release))
+      << "two steps, two frames: a third one waits, until release()";
 }
 
 TEST(PlaybackControl, StepWhileRunningPausesAfterOneFrame) {
@@ -131,10 +132,8 @@ TEST(PlaybackControl, StepWhileRunningPausesAfterOneFrame) {
   c.step();
   EXPECT_TRUE(c.paused());
   ASSERT_TRUE(passes(c)) << "the frame after the step";
-  Frame next(c);
-  ASSERT_TRUE(next.held()) << "a step while running lets one frame through, not more";
-  c.step();
-  ASSERT_TRUE(next.passed()) << "a step lets the held frame go";
+  ASSERT_TRUE(heldUntil(c, &PlaybackControl::step))
+      << "a step while running lets one frame through, not more; the next step the held one";
 }
 
 TEST(PlaybackControl, ResumeAndReleaseNeverWaitAgain) {
@@ -144,12 +143,9 @@ TEST(PlaybackControl, ResumeAndReleaseNeverWaitAgain) {
   EXPECT_FALSE(c.paused());
   ASSERT_TRUE(passes(c)) << "paused and resumed: no waiting";
   c.togglePause();
-  {
-    Frame next(c);
-    ASSERT_TRUE(next.held()) << "paused again: the next frame waits";
-    c.release();  // the window was closed while paused: the run must not hang
-    ASSERT_TRUE(next.passed()) << "release() lets a held frame go";
-  }
+  // The window closed while paused: the run must not hang.
+  ASSERT_TRUE(heldUntil(c, &PlaybackControl::release))
+      << "paused again: the next frame waits, until release()";
   EXPECT_FALSE(c.paused());
   c.togglePause();  // a key pressed after the window closed: still never waits
   c.step();
@@ -445,10 +441,8 @@ namespace {
 // destructor), and freeing the window with requests queued corrupts the heap (most likely the
 // "double free or corruption" after the last frame of a CI run with two tests on two cores).
 TEST(LiveViewer, ClosingWaitsForTheWindowThreadHoweverLongItIsBusy) {
-  if (const auto why = test::missingDisplayTools()) SLAMDUNK_SKIP(*why);
   const std::string dir = test::scratchDir("LiveViewer_BusyWindowThread");
-  test::VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty()) SLAMDUNK_SKIP("no X server could be started (Xvfb)");
+  REQUIRE_VIRTUAL_DISPLAY(display, dir);
   // Forked here, where this process has no thread but the main one.
   EXPECT_EXIT(closeAViewerWhileTheWindowThreadIsBusy(display.name()), testing::ExitedWithCode(0),
               "the viewer closed once the window thread was free");

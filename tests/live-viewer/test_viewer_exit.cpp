@@ -82,10 +82,8 @@ void keepTheWindowThreadBusy() {
 }  // namespace
 
 TEST(LiveViewer, TheLastViewerEndsTheWindowThreadHoweverLongItIsBusy) {
-  if (const auto why = test::missingDisplayTools()) SLAMDUNK_SKIP(*why);
   const std::string dir = test::scratchDir("LiveViewer_Exit");
-  test::VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty()) SLAMDUNK_SKIP("no X server could be started (Xvfb)");
+  REQUIRE_VIRTUAL_DISPLAY(display, dir);
   EXPECT_EXIT(openCloseAndExit(display.name()), testing::ExitedWithCode(0),
               "after the viewer: work done, window thread ended; second viewer refused: .*"
               "cannot start it again.*; at the exit: window thread ended");

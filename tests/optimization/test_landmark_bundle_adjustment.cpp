@@ -4,6 +4,8 @@
 // does: the keypoint's pixel is precise, the depth read there much less.
 #include <slamdunk/optimization/LocalOptimizer.h>
 
+#include "WalkPastAWall.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,10 +13,10 @@
 #include <random>
 
 using namespace slamdunk;
+using test::kDeg;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kFocal = 525.0;
 
 /// Keyframes walking past a wall of points, each measuring the points it sees: pixel noise
@@ -23,17 +25,11 @@ class RgbdScene {
  public:
   RgbdScene(int keyframes, const DepthNoiseModel& noise, unsigned seed = 3)
       : noise_(noise), rng_(seed) {
-    std::uniform_real_distribution<double> ux(-1.5, 0.15 * keyframes + 1.5), uy(-1.0, 1.0),
-        uz(1.2, 3.0);
-    for (int n = 0; n < 3000; ++n) points_.emplace_back(ux(rng_), uy(rng_), uz(rng_));
+    points_ = test::pointsInBox(3000, {-1.5, -1.0, 1.2}, {0.15 * keyframes + 1.5, 1.0, 3.0}, rng_);
     for (int k = 0; k < keyframes; ++k) {
-      Pose p = Pose::Identity();
-      p.linear() = (Eigen::AngleAxisd(6 * kDeg * std::sin(0.4 * k), Eigen::Vector3d::UnitY()) *
-                    Eigen::AngleAxisd(3 * kDeg * std::sin(0.6 * k), Eigen::Vector3d::UnitX()))
-                       .toRotationMatrix();
-      p.translation() =
-          Eigen::Vector3d(0.15 * k, 0.03 * std::sin(0.5 * k), 0.05 * std::cos(0.3 * k));
-      truth_.push_back(p);
+      truth_.push_back(
+          test::wobblingPose({0.15 * k, 0.03 * std::sin(0.5 * k), 0.05 * std::cos(0.3 * k)},
+                             6 * kDeg * std::sin(0.4 * k), 3 * kDeg * std::sin(0.6 * k)));
       measure(k);
     }
   }

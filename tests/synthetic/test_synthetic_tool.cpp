@@ -22,13 +22,23 @@ namespace {
 
 using test::readFile;
 
+/// synthetic-rgbd run with `args`.
+test::CommandResult syntheticRgbd(const std::string& args) {
+  return test::runCommand(test::toolPath("synthetic-rgbd") + " " + args);
+}
+
+/// The options of a short hand-held sequence, rendered fast, its images beside the rawlog.
+std::string shortShake(int frames) {
+  return " --trajectory shake --frames " + std::to_string(frames) +
+         " --hand-held --supersampling 1 --external-images -q";
+}
+
 }  // namespace
 
 TEST(SyntheticRgbdTool, WritesRawlogAndGroundTruth) {
   const std::string dir = test::scratchDir("synthetic_tool_ok");
   const std::string out = dir + "/sweep10.rawlog";
-  const auto r = test::runCommand(test::toolPath("synthetic-rgbd") + " " + out +
-                                  " --trajectory sweep --frames 10");
+  const auto r = syntheticRgbd(out + " --trajectory sweep --frames 10");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("frames:"), std::string::npos) << r.output;
 
@@ -48,10 +58,10 @@ TEST(SyntheticRgbdTool, WritesRawlogAndGroundTruth) {
 TEST(SyntheticRgbdTool, ExternalImagesAndCustomGroundTruthPath) {
   const std::string dir = test::scratchDir("synthetic_tool_external");
   const std::string out = dir + "/loop3.rawlog", gtPath = dir + "/gt.txt";
-  const auto r = test::runCommand(test::toolPath("synthetic-rgbd") + " " + out +
-                                  " --trajectory loop --frames 3 --seed 5 --external-images "
-                                  "--depth-noise 0.001 --gt " +
-                                  gtPath + " -q");
+  const auto r = syntheticRgbd(out +
+                               " --trajectory loop --frames 3 --seed 5 --external-images "
+                               "--depth-noise 0.001 --gt " +
+                               gtPath + " -q");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(readTumTrajectory(gtPath).size(), 3u);
   EXPECT_TRUE(fs::is_directory(dir + "/loop3_Images"));
@@ -70,16 +80,12 @@ TEST(SyntheticRgbdTool, ExternalImagesAndCustomGroundTruthPath) {
 // exact-depth sequence beside it is what a run without the twin renders.
 TEST(SyntheticRgbdTool, KinectTwinIsTheKinectDepthSequence) {
   const std::string dir = test::scratchDir("synthetic_tool_twin");
-  const std::string tool = test::toolPath("synthetic-rgbd");
-  const std::string common =
-      " --trajectory shake --frames 6 --hand-held --supersampling 1 "
-      "--external-images -q";
-  auto r = test::runCommand(tool + " " + dir + "/exact.rawlog --kinect-twin " + dir +
-                            "/twin.rawlog" + common);
+  const std::string common = shortShake(6);
+  auto r = syntheticRgbd(dir + "/exact.rawlog --kinect-twin " + dir + "/twin.rawlog" + common);
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  r = test::runCommand(tool + " " + dir + "/alone.rawlog" + common);
+  r = syntheticRgbd(dir + "/alone.rawlog" + common);
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  r = test::runCommand(tool + " " + dir + "/kinect.rawlog --kinect-depth" + common);
+  r = syntheticRgbd(dir + "/kinect.rawlog --kinect-depth" + common);
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   auto expectSameSequence = [&](const std::string& a, const std::string& b) {
@@ -102,12 +108,11 @@ TEST(SyntheticRgbdTool, KinectTwinIsTheKinectDepthSequence) {
   EXPECT_NE(readFile(dir + "/twin_Images/000003_depth.bin"),
             readFile(dir + "/exact_Images/000003_depth.bin"));
 
-  r = test::runCommand(tool + " " + dir + "/k2.rawlog --kinect-depth --kinect-twin " + dir +
-                       "/t2.rawlog --frames 3 -q");
+  r = syntheticRgbd(dir + "/k2.rawlog --kinect-depth --kinect-twin " + dir +
+                    "/t2.rawlog --frames 3 -q");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("--kinect-twin and --kinect-depth"), std::string::npos) << r.output;
-  r = test::runCommand(tool + " " + dir + "/k3.rawlog --kinect-twin " + dir +
-                       "/./k3.rawlog --frames 3 -q");
+  r = syntheticRgbd(dir + "/k3.rawlog --kinect-twin " + dir + "/./k3.rawlog --frames 3 -q");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("name the same file"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/k2.rawlog"));
@@ -118,14 +123,11 @@ TEST(SyntheticRgbdTool, KinectTwinIsTheKinectDepthSequence) {
 // to the lossless render; the depth is the exact depth PNG output's, byte for byte.
 TEST(SyntheticRgbdTool, JpegColourStaysCloseToTheLosslessRender) {
   const std::string dir = test::scratchDir("synthetic_tool_jpeg");
-  const std::string tool = test::toolPath("synthetic-rgbd");
-  const std::string common =
-      " --trajectory shake --frames 4 --hand-held --supersampling 1 "
-      "--external-images -q";
-  auto r = test::runCommand(tool + " " + dir + "/png.rawlog" + common);
+  const std::string common = shortShake(4);
+  auto r = syntheticRgbd(dir + "/png.rawlog" + common);
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  r = test::runCommand(tool + " " + dir + "/jpg.rawlog --kinect-twin " + dir + "/twin.rawlog" +
-                       common + " --jpeg-quality 95");
+  r = syntheticRgbd(dir + "/jpg.rawlog --kinect-twin " + dir + "/twin.rawlog" + common +
+                    " --jpeg-quality 95");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   // One reader after the other: MRPT resolves external image names against one folder per
   // process, the last reader's.
@@ -152,10 +154,10 @@ TEST(SyntheticRgbdTool, JpegColourStaysCloseToTheLosslessRender) {
     EXPECT_TRUE(fs::exists(dir + "/twin_Images" + name));
   }
 
-  r = test::runCommand(tool + " " + dir + "/bad.rawlog" + common + " --jpeg-quality 101");
+  r = syntheticRgbd(dir + "/bad.rawlog" + common + " --jpeg-quality 101");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("JPEG quality must be"), std::string::npos) << r.output;
-  r = test::runCommand(tool + " " + dir + "/bad.rawlog --frames 3 -q --jpeg-quality 90");
+  r = syntheticRgbd(dir + "/bad.rawlog --frames 3 -q --jpeg-quality 90");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("needs external images"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/bad.rawlog"));
@@ -166,24 +168,23 @@ TEST(SyntheticRgbdTool, BadOptionFailsClearlyAndKeepsExistingFiles) {
   const std::string out = dir + "/keep.rawlog", gtPath = dir + "/keep_groundtruth.txt";
   std::ofstream(out) << "precious";
   std::ofstream(gtPath) << "precious too";
-  const std::string tool = test::toolPath("synthetic-rgbd");
 
-  auto r = test::runCommand(tool + " " + out + " --trajectory nope");
+  auto r = syntheticRgbd(out + " --trajectory nope");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("unknown trajectory 'nope'"), std::string::npos) << r.output;
 
-  r = test::runCommand(tool + " " + out + " --frames 1");
+  r = syntheticRgbd(out + " --frames 1");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("frames"), std::string::npos) << r.output;
 
-  r = test::runCommand(tool + " " + out + " --no-such-option");
+  r = syntheticRgbd(out + " --no-such-option");
   EXPECT_NE(r.exitCode, 0);
 
-  r = test::runCommand(tool + " " + out + " --frames many");
+  r = syntheticRgbd(out + " --frames many");
   EXPECT_NE(r.exitCode, 0);
 
   // The ground truth written over the rawlog, under another spelling of its path.
-  r = test::runCommand(tool + " " + out + " --gt " + dir + "/./keep.rawlog --frames 3");
+  r = syntheticRgbd(out + " --gt " + dir + "/./keep.rawlog --frames 3");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("name the same file"), std::string::npos) << r.output;
 
@@ -194,7 +195,7 @@ TEST(SyntheticRgbdTool, BadOptionFailsClearlyAndKeepsExistingFiles) {
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 2u);
 
-  r = test::runCommand(tool + " --help");
+  r = syntheticRgbd("--help");
   EXPECT_EQ(r.exitCode, 0);
   EXPECT_NE(r.output.find("--trajectory"), std::string::npos);
 }

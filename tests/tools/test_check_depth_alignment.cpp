@@ -5,6 +5,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 
 #include "TestData.h"
+#include "ToolTest.h"
 
 #include <gtest/gtest.h>
 
@@ -16,10 +17,6 @@ using namespace slamdunk;
 using namespace slamdunk::test;
 
 namespace {
-
-std::string command(const std::string& args) {
-  return shellQuote(toolPath("check-depth-alignment")) + " " + args;
-}
 
 /// The trajectory with every frame-to-frame turn scaled by `factor` (in the camera's frame),
 /// positions unchanged: a trajectory that turns `factor` times as far as the camera did.
@@ -36,20 +33,15 @@ Trajectory turnedBy(const Trajectory& t, double factor) {
 
 }  // namespace
 
-class CheckDepthAlignmentTool : public ::testing::Test {
+class CheckDepthAlignmentTool : public ToolTest {
  protected:
-  void SetUp() override {
-    if (!std::ifstream(toolPath("check-depth-alignment")).good())
-      SLAMDUNK_SKIP("tool not built: " << toolPath("check-depth-alignment"));
-    dir = scratchDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
-  }
-  std::string dir;
+  CheckDepthAlignmentTool() : ToolTest("check-depth-alignment") {}
 };
 
 TEST_F(CheckDepthAlignmentTool, GroundTruthAgreesWithItsDepth) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  const CommandResult r = runCommand(
-      command("--json --every 20 " + shellQuote(rawlog) + " " + shellQuote(groundTruthOf(rawlog))));
+  const CommandResult r =
+      run("--json --every 20 " + shellQuote(rawlog) + " " + shellQuote(groundTruthOf(rawlog)));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_GE(jsonValue(r.output, "aligned"), 5) << r.output;
   const std::vector<double> scale = jsonArray(r.output, "rotation_scale_xyz");
@@ -65,8 +57,7 @@ TEST_F(CheckDepthAlignmentTool, ATrajectoryThatTurnsTooLittleReadsMoreThanOne) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   const std::string turned = dir + "/turned.txt";
   writeTumTrajectory(turned, turnedBy(readTumTrajectory(groundTruthOf(rawlog)), 0.9));
-  const CommandResult r =
-      runCommand(command("--json --every 20 " + shellQuote(rawlog) + " " + shellQuote(turned)));
+  const CommandResult r = run("--json --every 20 " + shellQuote(rawlog) + " " + shellQuote(turned));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const std::vector<double> scale = jsonArray(r.output, "rotation_scale_xyz");
   ASSERT_EQ(scale.size(), 3u) << r.output;
@@ -78,7 +69,7 @@ TEST_F(CheckDepthAlignmentTool, ATrajectoryThatTurnsTooLittleReadsMoreThanOne) {
 
 TEST_F(CheckDepthAlignmentTool, BadInputIsRefusedByName) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  CommandResult r = runCommand(command(shellQuote(rawlog) + " " + shellQuote(dir + "/none.txt")));
+  CommandResult r = run(shellQuote(rawlog) + " " + shellQuote(dir + "/none.txt"));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("none.txt"), std::string::npos) << r.output;
   // A trajectory from another time: no frame has a pose, so no pair.
@@ -86,10 +77,10 @@ TEST_F(CheckDepthAlignmentTool, BadInputIsRefusedByName) {
   Trajectory t = readTumTrajectory(groundTruthOf(rawlog));
   for (auto& p : t) p.timestamp += 1e5;
   writeTumTrajectory(elsewhere, t);
-  r = runCommand(command(shellQuote(rawlog) + " " + shellQuote(elsewhere)));
+  r = run(shellQuote(rawlog) + " " + shellQuote(elsewhere));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("no frame pair was aligned"), std::string::npos) << r.output;
-  r = runCommand(command("--step 0 " + shellQuote(rawlog) + " " + shellQuote(elsewhere)));
+  r = run("--step 0 " + shellQuote(rawlog) + " " + shellQuote(elsewhere));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("--step"), std::string::npos) << r.output;
 }

@@ -56,6 +56,40 @@ cv::Mat screenshotShowing(const test::VirtualDisplay& display, test::ChildProces
   }
 }
 
+/// What runViewer() saw: the last screenshot and the viewer's output.
+struct ViewerRun {
+  cv::Mat shot;
+  std::string output;
+  double secondsShown = 0;  ///< from its window's appearing to its stop
+};
+
+/// A viewer (`argv`) under `display`: its window titled `title` appears, screenshots are taken
+/// until `shows` holds for one (screenshotShowing), and it is stopped, still running and with
+/// no error in its output. Its output (line-buffered, whole when it is stopped) goes to
+/// dir/viewer.log, the last screenshot to dir/viewer.png.
+template <class Shows>
+void runViewer(const test::VirtualDisplay& display, const std::vector<std::string>& argv,
+               const std::string& title, const std::string& dir, Shows shows, ViewerRun& run) {
+  std::vector<std::string> command = {"stdbuf", "-oL", "-eL"};
+  command.insert(command.end(), argv.begin(), argv.end());
+  const std::string log = dir + "/viewer.log";
+  test::ChildProcess viewer(command, {"DISPLAY=" + display.name()}, log);
+  ASSERT_TRUE(viewer.started());
+  ASSERT_TRUE(display.waitForWindow(title, 60))
+      << "no " << argv[0] << " window titled " << title << "; output:\n"
+      << readFile(log);
+  const auto shown = std::chrono::steady_clock::now();
+  run.shot = screenshotShowing(display, viewer, dir + "/viewer.png", shows);
+  EXPECT_TRUE(viewer.alive()) << argv[0] << " exited; output:\n" << readFile(log);
+  viewer.stop();
+  run.secondsShown =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - shown).count();
+  run.output = readFile(log);
+  const auto errors = errorLines(run.output);
+  EXPECT_TRUE(errors.empty()) << errors.front();
+  ASSERT_FALSE(run.shot.empty());
+}
+
 /// The keyframe frustums and graph edges are drawn orange (255, 160, 0): SceneViewer3D's own
 /// empty view has no orange, only its grey grid and red, green and blue axes. The map's cloud
 /// has orange points too: measured 546 orange pixels with the frustums and edges, 289 without
@@ -77,9 +111,9 @@ double lightFraction(const cv::Mat& shot) {
 }  // namespace
 
 TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
-  if (const auto why = test::missingDisplayTools({"SceneViewer3D"})) SLAMDUNK_SKIP(*why);
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("Viewers_SceneViewer3D");
+  REQUIRE_VIRTUAL_DISPLAY(display, dir, "SceneViewer3D");
   // A map of the first 120 frames, and its scene as slamdunk-render writes it.
   const auto slam = test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(rawlog) + " -t " +
                                      q(dir + "/t.txt") + " --max-frames 120 -q" + " --save-map " +
@@ -90,34 +124,21 @@ TEST(MrptViewers, SceneViewer3DShowsTheSavedScene) {
                        q(dir + "/m.png") + " --scene " + q(dir + "/m.3Dscene"));
   ASSERT_EQ(render.exitCode, 0) << render.output;
 
-  test::VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty())
-    SLAMDUNK_SKIP("no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log"));
-  test::ChildProcess viewer({"stdbuf", "-oL", "-eL", "SceneViewer3D", dir + "/m.3Dscene"},
-                            {"DISPLAY=" + display.name()}, dir + "/viewer.log");
-  ASSERT_TRUE(viewer.started());
-  ASSERT_TRUE(display.waitForWindow("[m.3Dscene]", 60))
-      << "no SceneViewer3D window with the scene's name; output:\n"
-      << readFile(dir + "/viewer.log");
-  // It loads, then draws: screenshots until the map is on the screen.
-  const auto shown = std::chrono::steady_clock::now();
-  const cv::Mat shot =
-      screenshotShowing(display, viewer, dir + "/viewer.png", [](const cv::Mat& s) {
+  // The window is titled after the scene; it loads, then draws: screenshots until the map is
+  // on the screen.
+  ViewerRun run;
+  ASSERT_NO_FATAL_FAILURE(runViewer(
+      display, {"SceneViewer3D", dir + "/m.3Dscene"}, "[m.3Dscene]", dir,
+      [](const cv::Mat& s) {
         return orangePixels(s) >= kFewestOrange && colouredPixels(s) >= kFewestColoured;
-      });
-  EXPECT_TRUE(viewer.alive()) << "SceneViewer3D exited; output:\n" << readFile(dir + "/viewer.log");
-  viewer.stop();
-  ASSERT_FALSE(shot.empty());
-  const int orange = orangePixels(shot);
-  const int coloured = colouredPixels(shot);
+      },
+      run));
+  const int orange = orangePixels(run.shot);
+  const int coloured = colouredPixels(run.shot);
   std::cout << "SceneViewer3D: " << orange << " orange pixels, " << coloured << " coloured in all ("
-            << dir << "/viewer.png), "
-            << std::chrono::duration<double>(std::chrono::steady_clock::now() - shown).count()
-            << " s after its window appeared\n";
+            << dir << "/viewer.png), " << run.secondsShown << " s after its window appeared\n";
   EXPECT_GE(orange, kFewestOrange) << "no keyframe frustum on the screen within 120 s: " << dir;
   EXPECT_GE(coloured, kFewestColoured) << "the map is not on the screen within 120 s: " << dir;
-  const auto errors = errorLines(readFile(dir + "/viewer.log"));
-  EXPECT_TRUE(errors.empty()) << errors.front();
 }
 
 TEST(MrptViewers, RawLogViewerStartsWithTheMapPlugin) {
@@ -125,40 +146,25 @@ TEST(MrptViewers, RawLogViewerStartsWithTheMapPlugin) {
   GTEST_SKIP() << "the plug-in is ASan-instrumented here and RawLogViewer is not: it cannot load "
                   "it (the ASan runtime must come first); the Release suite runs this test";
 #endif
-  if (const auto why = test::missingDisplayTools({"RawLogViewer"})) SLAMDUNK_SKIP(*why);
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("Viewers_RawLogViewer");
-  test::VirtualDisplay display(dir + "/xvfb.log");
-  if (display.name().empty())
-    SLAMDUNK_SKIP("no X server could be started (Xvfb): " << readFile(dir + "/xvfb.log"));
-  test::ChildProcess viewer(
-      {"stdbuf", "-oL", "-eL", "RawLogViewer", "-l", SLAMDUNK_MAPS_PLUGIN, rawlog},
-      {"DISPLAY=" + display.name()}, dir + "/viewer.log");
-  ASSERT_TRUE(viewer.started());
-  ASSERT_TRUE(display.waitForWindow("RawlogViewer - Part of the MRPT project", 60))
-      << "no RawLogViewer window; output:\n"
-      << readFile(dir + "/viewer.log");
+  REQUIRE_VIRTUAL_DISPLAY(display, dir, "RawLogViewer");
   // Screenshots until the window is drawn and the plug-in's loading is reported.
-  const auto shown = std::chrono::steady_clock::now();
   const std::string loading = std::string("Loading plugin libraries: ") + SLAMDUNK_MAPS_PLUGIN;
-  const cv::Mat shot =
-      screenshotShowing(display, viewer, dir + "/viewer.png", [&](const cv::Mat& s) {
+  ViewerRun run;
+  ASSERT_NO_FATAL_FAILURE(runViewer(
+      display, {"RawLogViewer", "-l", SLAMDUNK_MAPS_PLUGIN, rawlog},
+      "RawlogViewer - Part of the MRPT project", dir,
+      [&](const cv::Mat& s) {
         return lightFraction(s) >= kLightest &&
                readFile(dir + "/viewer.log").find(loading) != std::string::npos;
-      });
-  EXPECT_TRUE(viewer.alive()) << "RawLogViewer exited; output:\n" << readFile(dir + "/viewer.log");
-  viewer.stop();
-  const std::string output = readFile(dir + "/viewer.log");
-  // It names the plug-in it loads, and says nothing about failing to.
-  EXPECT_NE(output.find(loading), std::string::npos) << output;
-  const auto errors = errorLines(output);
-  EXPECT_TRUE(errors.empty()) << errors.front();
+      },
+      run));
+  // It names the plug-in it loads (and, runViewer() checked, says nothing about failing to).
+  EXPECT_NE(run.output.find(loading), std::string::npos) << run.output;
   // Not blank: the window (light GTK theme) covers part of the black root window.
-  ASSERT_FALSE(shot.empty());
-  const double light = lightFraction(shot);
+  const double light = lightFraction(run.shot);
   std::cout << "RawLogViewer: " << light * 100 << " % of the screen drawn light (" << dir
-            << "/viewer.png), "
-            << std::chrono::duration<double>(std::chrono::steady_clock::now() - shown).count()
-            << " s after its window appeared\n";
+            << "/viewer.png), " << run.secondsShown << " s after its window appeared\n";
   EXPECT_GE(light, kLightest) << "the window was not drawn within 120 s";
 }
