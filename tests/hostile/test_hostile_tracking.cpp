@@ -223,7 +223,7 @@ TEST(HostileTracking, LensCoveredForFiveSecondsThenRelocalizes) {
 // latency grew without end. The pool keeps only what the window's orientation sees (frustum
 // filter), and the window moved with the camera's position only: a camera turning along a
 // mapped path saw less and less of its pool. The window now also follows the camera's
-// orientation ([tracker] window_shift_angle): the second lap adds no keyframe.
+// orientation ([local_map] window_shift_angle): the second lap adds no keyframe.
 TEST(HostileTracking, WalkingAMappedRoomAgainAddsNoKeyframes) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   constexpr size_t kLap = 400;
