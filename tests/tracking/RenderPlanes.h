@@ -50,15 +50,18 @@ inline cv::Mat renderPlanes(const CameraIntrinsics& K, const Pose& pose,
   return depth;
 }
 
-/// A small camera (160x120) for these images.
-inline CameraIntrinsics smallCamera() {
+/// A pinhole camera with its principal point at the image centre.
+inline CameraIntrinsics centredCamera(int width, int height, double focal) {
   CameraIntrinsics K;
-  K.width = 160;
-  K.height = 120;
-  K.fx = K.fy = 130;
-  K.cx = 79.5;
-  K.cy = 59.5;
+  K.width = width;
+  K.height = height;
+  K.fx = K.fy = focal;
+  K.cx = (width - 1) / 2.0;
+  K.cy = (height - 1) / 2.0;
   return K;
 }
+
+/// A small camera (160x120) for these images.
+inline CameraIntrinsics smallCamera() { return centredCamera(160, 120, 130); }
 
 }  // namespace slamdunk::test

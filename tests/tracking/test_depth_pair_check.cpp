@@ -19,12 +19,7 @@ constexpr double kDeg = M_PI / 180;
 
 /// A QVGA camera with a Kinect-like barrel distortion (TUM fr1's k1, k2).
 CameraIntrinsics distortedCamera() {
-  CameraIntrinsics K;
-  K.width = 320;
-  K.height = 240;
-  K.fx = K.fy = 260;
-  K.cx = 159.5;
-  K.cy = 119.5;
+  CameraIntrinsics K = test::centredCamera(320, 240, 260);
   K.dist = {0.26, -0.95, 0, 0, 0};
   return K;
 }

@@ -4,6 +4,8 @@
 
 #include <slamdunk/tracking/FrameTimingCompensation.h>
 
+#include "RenderPlanes.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -15,15 +17,7 @@ namespace {
 constexpr double kFrameSeconds = 1.0 / 30;
 
 /// A small camera: 64x48 pixels.
-CameraIntrinsics smallCamera() {
-  CameraIntrinsics K;
-  K.width = 64;
-  K.height = 48;
-  K.fx = K.fy = 60;
-  K.cx = 31.5;
-  K.cy = 23.5;
-  return K;
-}
+CameraIntrinsics smallCamera() { return test::centredCamera(64, 48, 60); }
 
 /// A frame of a wall `depth` metres ahead (none for 0).
 RgbdFrame frameAt(double timestamp, float depth = 0) {

@@ -1,5 +1,6 @@
 #include <slamdunk/apps/RawlogSlamRun.h>
 
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
@@ -25,12 +26,6 @@ void writeStaged(const std::string& target, const std::string& staged, Write wri
   } catch (const std::exception& e) {
     throw std::runtime_error(writeErrorMessage(target, e.what(), staged));
   }
-}
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
 std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -93,7 +88,7 @@ RawlogRunResult RawlogSlamRun::run() {
   ran_ = true;
   RawlogRunResult result;
   RunFigures& fig = result.figures;
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   result.readError = processFrames(fig);
   const std::string& in = options_.rawlog;
   if (!result.readError.empty() && fig.decodeMs.empty()) throw std::runtime_error(result.readError);
@@ -123,10 +118,10 @@ RawlogRunResult RawlogSlamRun::run() {
 }
 
 std::string RawlogSlamRun::processFrames(RunFigures& fig) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   size_t index = 0;
   for (;;) {
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     mrpt::obs::CObservation3DRangeScan::Ptr obs;
     try {
       obs = reader_->next();
@@ -139,7 +134,7 @@ std::string RawlogSlamRun::processFrames(RunFigures& fig) {
     if (index++ < options_.firstFrame) continue;
     const double decodeMs = msSince(t);
     if (pauseCallback_) {
-      const auto paused = Clock::now();
+      const auto paused = SteadyClock::now();
       pauseCallback_(fig.decodeMs.size());
       pausedSeconds_ += msSince(paused) / 1000.0;
     }

@@ -1,6 +1,7 @@
 #include <slamdunk/live/CheckpointWriter.h>
 
 #include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include <fcntl.h>
@@ -24,12 +25,6 @@ namespace fs = std::filesystem;
 namespace slamdunk::live {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 /// Flushes a file or folder to the disk: the swap must not reach the disk before the data
 /// does, or a power loss could leave a complete-looking folder of empty files.
@@ -171,24 +166,25 @@ void CheckpointWriter::writerLoop() {
   // Serializing and compressing the map is the costly part: on a machine with few cores it
   // must yield to tracking. Linux applies a nice value to the calling thread alone.
   setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), 10);
-  const auto period = std::chrono::duration_cast<Clock::duration>(
+  const auto period = std::chrono::duration_cast<SteadyClock::duration>(
       std::chrono::duration<double>(options_.everySeconds));
-  auto last = Clock::now();
+  auto last = SteadyClock::now();
   std::unique_lock lock(mutex_);
   while (!stopping_) {
-    const auto deadline = options_.everySeconds > 0 ? last + period : Clock::time_point::max();
+    const auto deadline =
+        options_.everySeconds > 0 ? last + period : SteadyClock::time_point::max();
     // Woken by a keyframe that makes one due, by stop(), or at the latest every second.
-    wake_.wait_until(lock, std::min(deadline, Clock::now() + std::chrono::seconds(1)),
+    wake_.wait_until(lock, std::min(deadline, SteadyClock::now() + std::chrono::seconds(1)),
                      [&] { return stopping_ || dueByKeyframes(); });
     if (stopping_) break;
-    const bool dueByTime = Clock::now() >= deadline;
+    const bool dueByTime = SteadyClock::now() >= deadline;
     if (!dueByKeyframes() && !dueByTime) continue;
     if (processed_ == processedAtLast_) {  // nothing new since the last one
-      last = Clock::now();
+      last = SteadyClock::now();
       continue;
     }
     // The interval runs from one snapshot to the next: a slow write does not stretch it.
-    last = Clock::now();
+    last = SteadyClock::now();
     lock.unlock();
     write();
     lock.lock();
@@ -199,13 +195,13 @@ void CheckpointWriter::writeNow() { write(); }
 
 void CheckpointWriter::write() {
   std::lock_guard writing(writeMutex_);
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   const size_t keyframesNow = newKeyframes_.load();
   processedAtLast_ = processed_.load();
   try {
     // Records first, graph second: every record's keyframe is then in the snapshot.
     frames_.takeNew(copied_);
-    const auto snapStart = Clock::now();
+    const auto snapStart = SteadyClock::now();
     const std::shared_ptr<KeyframeGraph> graph = graph_->snapshot();
     const double snapshotMs = msSince(snapStart);
     const double unixTime =

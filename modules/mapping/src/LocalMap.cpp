@@ -1,3 +1,4 @@
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/mapping/LocalMap.h>
 
 #include <algorithm>
@@ -6,10 +7,6 @@
 namespace slamdunk {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 /// Ground-parallel coordinates: x and z of the world (= first camera's optical frame, y down).
 Eigen::Vector2d groundPosition(const Pose& p) { return {p.translation().x(), p.translation().z()}; }
 }  // namespace
@@ -57,7 +54,7 @@ double LocalMap::beginFrame() {
     if (it == jobs_.end()) break;
     const std::shared_ptr<Job> job = *it;
     if (!job->done) {
-      const auto t = Clock::now();
+      const auto t = SteadyClock::now();
       workDone_.wait(lock, [&] { return job->done; });
       waitedMs += msSince(t);
     }
@@ -119,7 +116,7 @@ void LocalMap::requestWindow(const Pose& center, const CameraIntrinsics& K) {
     job.sequence = requestedWindow_ = ++nextSequence_;
     job.window = true;
     job.newest = newestKeyframe_;
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     job.part = std::make_shared<const PoolPart>(snapshot, options_.pool);
     {
       std::lock_guard lock(mutex_);
@@ -179,7 +176,7 @@ void LocalMap::workerLoop() {
     if (stopping_) return;
     job->started = true;
     lock.unlock();
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     auto part = std::make_shared<const PoolPart>(job->snapshot, options_.pool);
     const double ms = msSince(t);
     lock.lock();

@@ -1,3 +1,4 @@
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/optimization/LocalOptimizer.h>
 
 #include "BundleAdjuster.h"
@@ -9,11 +10,6 @@
 namespace slamdunk {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 /// Solves a prepared problem on its own copy of the poses and, only when every result is a
 /// valid pose, writes the free ones back in one setPoses() call.
@@ -68,7 +64,7 @@ LocalOptimizer::LocalOptimizer(const LocalOptimizerOptions& options) : options_(
 }
 
 LocalOptimizationReport LocalOptimizer::optimize(KeyframeGraph& graph, KeyframeId root) const {
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   LocalOptimizationReport r;
   r.root = root;
   if (!graph.contains(root)) {
@@ -85,7 +81,7 @@ LocalOptimizationReport LocalOptimizer::optimize(KeyframeGraph& graph, KeyframeI
 }
 
 LocalOptimizationReport LocalOptimizer::optimizeAll(KeyframeGraph& graph) const {
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   LocalProblem p = snapshotAll(graph);
   cleanMatches(p, options_.minWeight);
   fixGauge(p, nullptr);  // smallest id of each component

@@ -1,3 +1,4 @@
+#include <slamdunk/core/Statistics.h>
 #include <slamdunk/tracking/DepthPairCheck.h>
 
 #include <algorithm>
@@ -12,9 +13,7 @@ double medianResidual(const Pose& T, const DepthAlignmentTerm& term) {
   std::vector<double> r;
   for (const DepthCorrespondence& c : depthCorrespondences(T, term))
     r.push_back(std::abs(c.residual));
-  if (r.empty()) return 0;
-  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-  return r[r.size() / 2];
+  return r.empty() ? 0 : upperMedian(std::move(r));
 }
 
 }  // namespace

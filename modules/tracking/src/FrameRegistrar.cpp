@@ -1,16 +1,10 @@
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/tracking/FrameRegistrar.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
 
 #include <chrono>
 
 namespace slamdunk {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-}  // namespace
 
 std::map<KeyframeId, size_t> inlierCountPerKeyframe(const FeaturePool& pool,
                                                     const std::vector<PoolMatch>& matches,
@@ -50,14 +44,14 @@ Registration FrameRegistrar::registerFrame(const FeaturePool& pool, const RgbdFr
                                            FrameVelocity* velocity) {
   Registration reg;
   reg.pool = &pool;
-  auto t = Clock::now();
+  auto t = SteadyClock::now();
   reg.matches =
       knownMatches ? *knownMatches : pool.match(features.descriptors, options_.ratioThreshold);
   const std::vector<PoolMatch>& matches = reg.matches;
   reg.matchingMs = msSince(t);
   reg.poolSize = pool.size();
 
-  t = Clock::now();
+  t = SteadyClock::now();
   std::vector<Eigen::Vector3d> src, dst;
   std::vector<double> weights;
   src.reserve(matches.size());

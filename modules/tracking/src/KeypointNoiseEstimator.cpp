@@ -1,3 +1,4 @@
+#include <slamdunk/core/Statistics.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
 
 #include <algorithm>
@@ -6,12 +7,6 @@
 namespace slamdunk {
 
 namespace {
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
 // Medians of |x| for x ~ N(0, σ²): 0.6745 σ; of the length of a 2D N(0, σ² I): 1.1774 σ.
 constexpr double kHalfNormalMedian = 0.6745;
 constexpr double kRayleighMedian = 1.1774;
@@ -39,8 +34,8 @@ void KeypointNoiseEstimator::addFrame(const std::vector<InlierSample>& inliers, 
     zMap.push_back(zm);
   }
   if (static_cast<int>(across.size()) < options_.minSamples) return;
-  const double pixelSigma =
-      std::clamp(median(across) / kRayleighMedian, options_.minPixelSigma, options_.maxPixelSigma);
+  const double pixelSigma = std::clamp(upperMedian(across) / kRayleighMedian,
+                                       options_.minPixelSigma, options_.maxPixelSigma);
   // The depth coefficient whose predicted spread explains the median along-ray error: the
   // normalised errors' median falls as the coefficient grows, so bisect (in log scale).
   DepthNoiseModel m = prior_;
@@ -50,7 +45,7 @@ void KeypointNoiseEstimator::addFrame(const std::vector<InlierSample>& inliers, 
     std::vector<double> n(along.size());
     for (size_t i = 0; i < along.size(); ++i)
       n[i] = along[i] / std::hypot(m.depthSigma(zFrame[i]), m.depthSigma(zMap[i]));
-    return median(std::move(n));
+    return upperMedian(std::move(n));
   };
   double lo = std::log(options_.minDepthSigma), hi = std::log(options_.maxDepthSigma);
   for (int it = 0; it < 30; ++it) {
@@ -67,8 +62,8 @@ void KeypointNoiseEstimator::addFrame(const std::vector<InlierSample>& inliers, 
   }
   ++measured_;
   if (static_cast<int>(measured_) < options_.minFrames) return;
-  current_.pixelSigma = median({pixelSigmas_.begin(), pixelSigmas_.end()});
-  current_.depthSigmaQuadratic = median({depthSigmas_.begin(), depthSigmas_.end()});
+  current_.pixelSigma = upperMedian({pixelSigmas_.begin(), pixelSigmas_.end()});
+  current_.depthSigmaQuadratic = upperMedian({depthSigmas_.begin(), depthSigmas_.end()});
 }
 
 }  // namespace slamdunk

@@ -1,4 +1,5 @@
 #include <slamdunk/core/DepthNoiseModel.h>
+#include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/Tracker.h>
 
@@ -10,10 +11,6 @@
 namespace slamdunk {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 /// Hands the registration's measurements over to the frame's result (its times once).
 void report(Registration& registration, TrackingResult& r) {
@@ -69,18 +66,18 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
 Tracker::~Tracker() = default;
 
 TrackingResult Tracker::process(const RgbdFrame& frame) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   TrackingResult r;
   r.timestamp = frame.timestamp();
   r.pose = lastPose_;
   registrar_.newFrame(lost_ ? std::nullopt : std::optional<Pose>(lastPose_));
 
   // Every frame counts for the pools' hand-over, tracked or not.
-  auto t = Clock::now();
+  auto t = SteadyClock::now();
   r.timings.poolWait = localMap_.beginFrame();
   r.timings.pool = msSince(t);
 
-  t = Clock::now();
+  t = SteadyClock::now();
   FeatureSet features = extractor_.extract(frame);
   timing_.beginFrame(frame, features, lastPose_, lost_);
   r.timings.features = msSince(t);
@@ -139,7 +136,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
 }
 
 const FeaturePool& Tracker::poolForFrame(const RgbdFrame& frame, TrackingResult& r) {
-  const auto t = Clock::now();
+  const auto t = SteadyClock::now();
   if (mapChanged_.exchange(false) || poolDirty_) {
     // Paper Sec. 4.1: after a keyframe (and its optimization) the window is re-queried
     // around the newest keyframe's current pose.
@@ -189,7 +186,7 @@ std::optional<Registration> Tracker::relocalize(const RgbdFrame& frame, const Fe
 
 std::optional<Registration> Tracker::registerByDepthOnly(const RgbdFrame& frame,
                                                          FeatureSet&& features, TrackingResult& r) {
-  const auto t = Clock::now();
+  const auto t = SteadyClock::now();
   DepthOnlyFallback::Result aligned =
       depthOnly_.registerFrame(frame, lastReference_, registrar_.keyframePose(lastReference_),
                                lastPose_, timing_.lastMotion());
@@ -268,7 +265,7 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
     if (r.relocalized || localMap_.shiftNeeded(pose)) {
       // Paper Sec. 4.1 "Shift": the window follows the camera without a new keyframe (and
       // jumps to wherever relocalization put it).
-      const auto t = Clock::now();
+      const auto t = SteadyClock::now();
       localMap_.requestWindow(pose, frame.intrinsics());
       r.timings.pool += msSince(t);
     }
@@ -277,7 +274,7 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
 }
 
 const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResult& r) {
-  const auto t = Clock::now();
+  const auto t = SteadyClock::now();
   const size_t keyframes = graph_->keyframeCount();
   if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
     // No frustum: the camera may be anywhere in the map. Built here, not in the background:
