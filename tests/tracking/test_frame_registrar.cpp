@@ -3,6 +3,7 @@
 // refused.
 
 #include <slamdunk/tracking/FrameRegistrar.h>
+#include <slamdunk/tracking/KeyframeEdges.h>
 
 #include "PoolTestData.h"
 
@@ -109,4 +110,33 @@ TEST(FrameRegistrar, ReadsEachKeyframePoseOncePerFrame) {
   registrar.newFrame(std::nullopt);
   EXPECT_NEAR(translationDistance(registrar.keyframePose(0), before),
               translationDistance(moved(0.1, 5), Pose::Identity()), 1e-12);
+}
+
+// A new keyframe is linked to the keyframe holding its inliers, with one weighted match per
+// inlier, and to none when they are fewer than edge_min_matches.
+TEST(KeyframeEdges, LinksTheKeyframeHoldingEnoughInliers) {
+  for (const int minMatches : {5, 301}) {
+    Fixture s;
+    s.options.edgeMinMatches = minMatches;
+    FrameRegistrar registrar(s.options, s.noise, s.timing, s.graph, s.dense);
+    registrar.newFrame(Pose::Identity());
+    const Pose truth = moved(0.05, 3);
+    const Registration r =
+        registrar.registerFrame(s.pool, s.frame, seenFrom(*s.graph.keyframe(0), truth));
+    ASSERT_TRUE(r) << r.failure;
+    auto kf = std::make_shared<Keyframe>();
+    kf->id = 1;
+    kf->features = r.features;
+    s.graph.addKeyframe(kf, r.pose);
+
+    KeyframeEdges(s.options, s.noise, s.graph, s.dense).linkMatches(1, kf->features, r);
+    const std::vector<KeyframeEdge> edges = s.graph.allEdges();
+    if (minMatches > 300) {
+      EXPECT_TRUE(edges.empty());
+      continue;
+    }
+    ASSERT_EQ(edges.size(), 1u);
+    EXPECT_EQ(edges[0].matches.size(), 300u);
+    for (const PointMatch& m : edges[0].matches) EXPECT_GT(m.weight, 0);
+  }
 }

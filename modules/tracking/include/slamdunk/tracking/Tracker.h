@@ -10,14 +10,15 @@
 
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/graph/KeyframeGraph.h>
+#include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/DenseDepthTerm.h>
 #include <slamdunk/tracking/DepthOnlyFallback.h>
-#include <slamdunk/mapping/FeaturePool.h>
 #include <slamdunk/tracking/FrameRegistrar.h>
 #include <slamdunk/tracking/FrameTimingCompensation.h>
+#include <slamdunk/tracking/KeyframeEdges.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
-#include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
@@ -120,10 +121,6 @@ class Tracker {
   /// Every keyframe of the map in one pool (rebuilt when keyframes were added since).
   const FeaturePool& wholeMapPool(const CameraIntrinsics& K, TrackingResult& r);
   KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
-  void linkKeyframe(KeyframeId id, const FeatureSet& features, const Registration& registration);
-  /// Adds the depth term's point-to-plane associations (at the keyframe's pose) to the edge
-  /// with its reference keyframe, so the local optimization keeps what the alignment measured.
-  void linkKeyframeDepth(KeyframeId id, const Pose& pose);
   bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
 
   TrackerOptions options_;
@@ -138,6 +135,7 @@ class Tracker {
   FrameTimingCompensation timing_;
   FrameRegistrar registrar_;
   DepthOnlyFallback depthOnly_;
+  KeyframeEdges edges_;
   FeaturePool globalPool_;          ///< every keyframe, for relocalization
   size_t globalPoolKeyframes_ = 0;  ///< keyframe count when globalPool_ was built
   size_t framesLost_ = 0;
