@@ -61,17 +61,21 @@ struct Fixture {
     pool = FeaturePool(options.localMap.pool);
     pool.build(graph, {0}, Pose::Identity(), CameraIntrinsics{});
   }
+
+  /// The keyframe's features seen from `truth`, registered from the origin.
+  Registration registerSeenFrom(const Pose& truth) {
+    FrameRegistrar registrar(options, noise, timing, graph, dense);
+    registrar.newFrame(Pose::Identity());
+    return registrar.registerFrame(pool, frame, seenFrom(*graph.keyframe(0), truth));
+  }
 };
 
 }  // namespace
 
 TEST(FrameRegistrar, RegistersAFrameAtTheMotionItWasSeenFrom) {
   Fixture s;
-  FrameRegistrar registrar(s.options, s.noise, s.timing, s.graph, s.dense);
-  registrar.newFrame(Pose::Identity());
   const Pose truth = moved(0.05, 3);
-  const Registration r =
-      registrar.registerFrame(s.pool, s.frame, seenFrom(*s.graph.keyframe(0), truth));
+  const Registration r = s.registerSeenFrom(truth);
   ASSERT_TRUE(r) << r.failure;
   EXPECT_EQ(r.pool, &s.pool);
   EXPECT_EQ(r.inliers, 300u);
@@ -118,11 +122,7 @@ TEST(KeyframeEdges, LinksTheKeyframeHoldingEnoughInliers) {
   for (const int minMatches : {5, 301}) {
     Fixture s;
     s.options.edgeMinMatches = minMatches;
-    FrameRegistrar registrar(s.options, s.noise, s.timing, s.graph, s.dense);
-    registrar.newFrame(Pose::Identity());
-    const Pose truth = moved(0.05, 3);
-    const Registration r =
-        registrar.registerFrame(s.pool, s.frame, seenFrom(*s.graph.keyframe(0), truth));
+    const Registration r = s.registerSeenFrom(moved(0.05, 3));
     ASSERT_TRUE(r) << r.failure;
     auto kf = std::make_shared<Keyframe>();
     kf->id = 1;
