@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libgtest-dev googletest
+  libgtest-dev libgmock-dev googletest
   libmrpt-dev mrpt-apps libnanoflann-dev
   libwxgtk3.2-dev  # the viewer names MRPT's window thread (WxSubsystem.h includes wxWidgets)
   libeigen3-dev

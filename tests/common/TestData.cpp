@@ -1,6 +1,7 @@
 #include "TestData.h"
 
 #include <sys/wait.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +86,37 @@ std::string preparedRawlog(const std::string& name) {
 std::string groundTruthOf(const std::string& rawlog) {
   const fs::path p(rawlog);
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
+}
+
+::testing::AssertionResult failedNaming(const CommandResult& run, const std::string& text) {
+  if (run.exitCode != 1)
+    return ::testing::AssertionFailure() << "exit code " << run.exitCode << ", not 1:\n"
+                                         << run.output;
+  if (run.output.find(text) == std::string::npos)
+    return ::testing::AssertionFailure() << "the output does not name '" << text << "':\n"
+                                         << run.output;
+  return ::testing::AssertionSuccess();
+}
+
+std::vector<std::string> csvColumn(const std::string& path, const std::string& name) {
+  auto split = [](const std::string& line) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    return fields;
+  };
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  const auto header = split(line);
+  const size_t k = std::find(header.begin(), header.end(), name) - header.begin();
+  EXPECT_LT(k, header.size()) << "no column " << name << " in " << path;
+  std::vector<std::string> column;
+  while (std::getline(in, line)) {
+    const auto fields = split(line);
+    column.push_back(k < fields.size() ? fields[k] : "");
+  }
+  return column;
 }
 
 double jsonValue(const std::string& json, const std::string& key) {

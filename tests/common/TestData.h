@@ -25,6 +25,10 @@ struct CommandResult {
 /// Runs a shell command line and captures its output and exit code.
 CommandResult runCommand(const std::string& commandLine);
 
+/// A run refused as bad input should be: exit code 1 and `text` (what names the problem) in its
+/// output. The failure message shows the whole output.
+::testing::AssertionResult failedNaming(const CommandResult& run, const std::string& text);
+
 /// Single-quoted for a shell command line.
 std::string shellQuote(const std::string& s);
 
@@ -40,6 +44,10 @@ double jsonValue(const std::string& json, const std::string& key);
 /// The numbers of a one-line JSON array of numbers (null read as NaN); empty when the key is
 /// absent.
 std::vector<double> jsonArray(const std::string& json, const std::string& key);
+
+/// One column of a CSV file with a header line (a frame log), by its header name; an empty
+/// field where a row is short. Fails the test when the header has no such column.
+std::vector<std::string> csvColumn(const std::string& path, const std::string& name);
 
 /// True when SLAMDUNK_REQUIRE_DATA=1 (as in CI): a test whose prerequisites (the shared data,
 /// a tool, an X server) are missing fails instead of skipping, so that a clone that cannot see

@@ -8,6 +8,17 @@
 
 using namespace slamdunk;
 
+namespace {
+enum class Shade { Light, Dark, Grey };
+}  // namespace
+
+namespace slamdunk {
+SLAMDUNK_ENUM_NAMES(Shade, {{Shade::Light, "light"},
+                            {Shade::Dark, "dark"},
+                            {Shade::Dark, "black"},
+                            {Shade::Grey, "grey"}});
+}  // namespace slamdunk
+
 TEST(IniSectionReader, ReadsValuesWithCommentsAndDefaults) {
   mrpt::config::CConfigFileMemory cfg(
       "[s]\na = 2.5   // comment\nb = 7 # comment\nc = true\nv = [1 2, 3]\nname = orb\n");
@@ -42,6 +53,38 @@ TEST(IniSectionReader, MalformedValuesAreNamed) {
   EXPECT_THROW(r.readInt("b", 0), std::invalid_argument);
   EXPECT_THROW(r.readBool("c", false), std::invalid_argument);
   EXPECT_THROW(r.readDoubles("v", {}, 3), std::invalid_argument);
+}
+
+TEST(EnumNames, NamesReadBothWaysWithAliasesAndAnyCase) {
+  EXPECT_EQ(enumFromName<Shade>("DARK"), Shade::Dark);
+  EXPECT_EQ(enumFromName<Shade>("black"), Shade::Dark);
+  EXPECT_EQ(enumFromName<Shade>("grey"), Shade::Grey);
+  EXPECT_FALSE(enumFromName<Shade>("gre").has_value());
+  EXPECT_FALSE(enumFromName<Shade>("greyish").has_value());
+  EXPECT_STREQ(toString(Shade::Dark), "dark");
+  EXPECT_STREQ(toString(static_cast<Shade>(7)), "?");
+  EXPECT_EQ(enumChoices<Shade>(), "light, dark or grey");
+}
+
+TEST(IniSectionReader, EnumerationValuesAreNamesAndAWrongOneListsTheChoices) {
+  mrpt::config::CConfigFileMemory cfg("[s]\nshade = Grey\nother = blue\n");
+  IniSectionReader r(cfg, "s");
+  Shade shade = Shade::Light, other = Shade::Light, missing = Shade::Dark;
+  r("shade", shade);
+  r("missing", missing);
+  EXPECT_EQ(shade, Shade::Grey);
+  EXPECT_EQ(missing, Shade::Dark);
+  try {
+    r("other", other);
+    FAIL() << "a name outside the table was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "[s] other = 'blue' is not one of light, dark or grey");
+  }
+
+  mrpt::config::CConfigFileMemory out;
+  IniSectionWriter w(out, "s");
+  w("shade", Shade::Dark);
+  EXPECT_EQ(out.read_string("s", "shade", ""), "dark");
 }
 
 TEST(CameraCalibration, ShippedCameraFilesLoad) {

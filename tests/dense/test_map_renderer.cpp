@@ -22,9 +22,16 @@ using namespace slamdunk;
 
 namespace {
 
+struct Room {
+  DenseCloud cloud;
+  std::vector<Pose> keyframes;
+};
+
 /// A 2 m x 1.5 m room corner in the optical world frame (y down): a red floor (y = +1), a green
 /// back wall (z = 3) and a blue side wall (x = -1), plus three keyframes looking at it.
-void makeRoom(DenseCloud& cloud, std::vector<Pose>& keyframes) {
+Room makeRoom() {
+  Room room;
+  DenseCloud& cloud = room.cloud;
   for (float a = -1; a <= 1; a += 0.02f)
     for (float b = 0; b <= 1.5f; b += 0.02f) {
       cloud.add({a, 1.0f, 1.5f + b}, {220, 40, 40});                        // floor
@@ -34,8 +41,9 @@ void makeRoom(DenseCloud& cloud, std::vector<Pose>& keyframes) {
   for (int i = 0; i < 3; ++i) {
     Pose T = Pose::Identity();
     T.translation() = Eigen::Vector3d(0.3 * i, 0, 0);
-    keyframes.push_back(T);
+    room.keyframes.push_back(T);
   }
+  return room;
 }
 
 struct PixelStats {
@@ -71,9 +79,7 @@ PixelStats analyse(const cv::Mat& bgr) {
 
 TEST(MapRenderer, RendersTheCloudFramedAndInColour) {
   const std::string dir = test::scratchDir("MapRenderer_Renders");
-  DenseCloud cloud;
-  std::vector<Pose> keyframes;
-  makeRoom(cloud, keyframes);
+  const auto [cloud, keyframes] = makeRoom();
 
   RenderOptions options;
   options.width = 400;
@@ -111,9 +117,7 @@ TEST(MapRenderer, RendersTheCloudFramedAndInColour) {
 }
 
 TEST(MapRenderer, ViewIsZUpAndFitsTheMap) {
-  DenseCloud cloud;
-  std::vector<Pose> keyframes;
-  makeRoom(cloud, keyframes);
+  const auto [cloud, keyframes] = makeRoom();
   MapRenderer renderer;
   renderer.setCloud(cloud);
   const RenderView v = renderer.view();
@@ -171,9 +175,7 @@ TEST(MapRenderer, LevelsTheViewWithPitchedPanningCameras) {
 
 TEST(MapRenderer, SceneFileReadsBack) {
   const std::string dir = test::scratchDir("MapRenderer_Scene");
-  DenseCloud cloud;
-  std::vector<Pose> keyframes;
-  makeRoom(cloud, keyframes);
+  const auto [cloud, keyframes] = makeRoom();
   MapRenderer renderer;
   renderer.setCloud(cloud);
   renderer.setKeyframePoses(keyframes);

@@ -66,28 +66,6 @@ AppRun runLiveApp(const std::string& rawlog, const std::string& dir,
   return r;
 }
 
-/// One column of a CSV frame log, by its header name.
-std::vector<std::string> column(const std::string& csv, const std::string& name) {
-  auto split = [](const std::string& line) {
-    std::vector<std::string> fields;
-    std::stringstream ss(line);
-    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
-    return fields;
-  };
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  const auto header = split(line);
-  const size_t k = std::find(header.begin(), header.end(), name) - header.begin();
-  EXPECT_LT(k, header.size()) << "no column " << name << " in " << csv;
-  std::vector<std::string> out;
-  while (std::getline(in, line)) {
-    const auto fields = split(line);
-    out.push_back(k < fields.size() ? fields[k] : "");
-  }
-  return out;
-}
-
 /// A valid TUM file whose stamps strictly increase; returns it.
 Trajectory expectIncreasingTum(const std::string& path) {
   const Trajectory t = readTumTrajectory(path);  // throws on anything malformed
@@ -132,7 +110,7 @@ TEST(HostileInput, RepeatedOrBackwardTimestampsAreSkippedOffline) {
                               "warning: frame 40: timestamp ", "is not after frame 39's"})
     EXPECT_NE(r.result.output.find(warning), std::string::npos) << warning << r.result.output;
   EXPECT_EQ(expectIncreasingTum(r.trajectory).size(), 58u);
-  const auto status = column(r.frameLog, "status");
+  const auto status = test::csvColumn(r.frameLog, "status");
   ASSERT_EQ(status.size(), 60u);
   for (size_t i = 0; i < status.size(); ++i)
     EXPECT_EQ(status[i], i == 20 || i == 40 ? "skipped" : (i == 0 ? "initialized" : "tracked"))
@@ -149,7 +127,7 @@ TEST(HostileInput, RepeatedOrBackwardTimestampsAreSkippedLive) {
   const Trajectory t = expectIncreasingTum(r.trajectory);
   EXPECT_EQ(t.size(), r.value("tracked"));
   EXPECT_GE(t.size(), 55u);
-  const auto status = column(r.frameLog, "status");
+  const auto status = test::csvColumn(r.frameLog, "status");
   ASSERT_EQ(status.size(), 60u);
   EXPECT_EQ(status[20], "skipped");
   EXPECT_EQ(status[40], "skipped");
@@ -212,7 +190,7 @@ TEST(HostileInput, ImagesOfAnotherSizeThanTheirIntrinsicsAreSkippedNamingTheSize
   for (const char* frame : {"frame 10 (t=", "frame 12 (t=", "frame 14 (t="})
     EXPECT_NE(r.result.output.find(frame), std::string::npos) << frame << r.result.output;
   expectSizesNamed(r.result.output);
-  const auto status = column(r.frameLog, "status");
+  const auto status = test::csvColumn(r.frameLog, "status");
   ASSERT_EQ(status.size(), 30u);
   for (size_t i = 1; i < status.size(); ++i)
     EXPECT_EQ(status[i], i == 10 || i == 12 || i == 14 ? "lost" : "tracked") << "frame " << i;

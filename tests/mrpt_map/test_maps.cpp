@@ -681,6 +681,17 @@ TEST(SimpleMapExport, NoImagesIsAClearError) {
 
 // ------------------------------------------------------------------ map builder
 
+namespace {
+/// One observation to the builder as MRPT's rawlog-driven apps hand it over: an empty action
+/// and a sensory frame with the observation.
+void feed(CSlamDunkMapBuilder& builder, const mrpt::obs::CObservation::Ptr& obs) {
+  mrpt::obs::CActionCollection acts;
+  mrpt::obs::CSensoryFrame sf;
+  sf.insert(obs);
+  builder.processActionObservation(acts, sf);
+}
+}  // namespace
+
 TEST(SlamDunkMapBuilder, MatchesSlamSystemOnTheSyntheticSweep) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   CSlamDunkMapBuilder builder(optionsWithImages());
@@ -689,10 +700,7 @@ TEST(SlamDunkMapBuilder, MatchesSlamSystemOnTheSyntheticSweep) {
   RawlogReader reader(rawlog);
   size_t frames = 0;
   while (const auto obs = reader.next()) {
-    mrpt::obs::CActionCollection acts;
-    mrpt::obs::CSensoryFrame sf;
-    sf.insert(obs);
-    builder.processActionObservation(acts, sf);
+    feed(builder, obs);
     reference.process(*obs);
     if (++frames == 1) {
       // First frame: MRPT's world origin.
@@ -748,10 +756,7 @@ TEST(SlamDunkMapBuilder, ConventionsAgreeWithGroundTruth) {
   size_t frames = 0;
   double firstTimestamp = 0;
   while (const auto obs = reader.next()) {
-    mrpt::obs::CActionCollection acts;
-    mrpt::obs::CSensoryFrame sf;
-    sf.insert(obs);
-    builder.processActionObservation(acts, sf);
+    feed(builder, obs);
     if (frames == 0) firstTimestamp = builder.lastResult().timestamp;
     if (++frames == 60) break;
   }

@@ -1,3 +1,4 @@
+#include <slamdunk/optimization/LocalOptimization.h>
 #include <slamdunk/optimization/LocalOptimizer.h>
 
 #include "WalkPastAWall.h"
@@ -9,7 +10,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
+#include <mutex>
 #include <ostream>
 #include <random>
 #include <thread>
@@ -722,4 +725,100 @@ TEST(LocalOptimizerOptions, UnknownKeyAndBadValuesAreNamed) {
   LocalOptimizerOptions bad;
   bad.rings = 0;
   EXPECT_THROW(LocalOptimizer{bad}, std::invalid_argument);
+}
+
+// --- Local Optimization, the pipeline stage that runs the optimizer -------------------------
+
+namespace {
+/// A chain of 10 keyframes whose last four start off their ground truth (the same graph for the
+/// same seed).
+std::shared_ptr<KeyframeGraph> perturbedChain() {
+  Scene s(10);
+  auto g = std::make_shared<KeyframeGraph>();
+  buildChain(*g, s, 2, 60, range(6, 10));
+  return g;
+}
+
+void expectSamePoses(const KeyframeGraph& a, const KeyframeGraph& b) {
+  for (KeyframeId id : a.ids()) EXPECT_TRUE(bitIdentical(a.pose(id), b.pose(id))) << id;
+}
+}  // namespace
+
+// Offline: the optimization runs inside keyframeAdded, is the optimizer's own result, and the
+// tracker is told once, on the calling thread.
+TEST(LocalOptimization, InlineRunsTheOptimizerAtOnce) {
+  auto reference = perturbedChain();
+  LocalOptimizerOptions options = edgeForm();
+  LocalOptimizer(options).optimize(*reference, 9);
+
+  auto graph = perturbedChain();
+  int told = 0;
+  const auto caller = std::this_thread::get_id();
+  LocalOptimization stage(options, graph, false, [&] {
+    ++told;
+    EXPECT_EQ(std::this_thread::get_id(), caller);
+  });
+  stage.keyframeAdded(9, options.noise);
+  EXPECT_EQ(told, 1);
+  expectSamePoses(*graph, *reference);
+  const auto stats = stage.statistics();
+  EXPECT_EQ(stats.optimizations, 1u);
+  EXPECT_EQ(stats.optimizationMs.size(), 1u);
+  EXPECT_GT(stats.maxTranslationChange, 0.01);  // the perturbed keyframes were 4 cm off
+}
+
+// Live: the same optimization on the stage's own thread, done when waitUntilIdle returns.
+TEST(LocalOptimization, OwnThreadGivesTheSameResult) {
+  auto reference = perturbedChain();
+  const LocalOptimizerOptions options = edgeForm();
+  LocalOptimizer(options).optimize(*reference, 9);
+
+  auto graph = perturbedChain();
+  std::atomic<int> told{0};
+  std::atomic<bool> onAnotherThread{false};
+  const auto caller = std::this_thread::get_id();
+  LocalOptimization stage(options, graph, true, [&] {
+    onAnotherThread = std::this_thread::get_id() != caller;
+    ++told;
+  });
+  stage.keyframeAdded(9, options.noise);
+  stage.waitUntilIdle();
+  EXPECT_EQ(told, 1);
+  EXPECT_TRUE(onAnotherThread);
+  expectSamePoses(*graph, *reference);
+  EXPECT_EQ(stage.statistics().optimizations, 1u);
+}
+
+// Keyframes that arrive while an optimization runs collapse into one optimization, around the
+// newest: the thread never falls behind the tracker.
+TEST(LocalOptimization, ABacklogCollapsesIntoOneOptimization) {
+  auto graph = perturbedChain();
+  const LocalOptimizerOptions options = edgeForm();
+  std::mutex m;
+  std::condition_variable cv;
+  bool firstStarted = false, released = false;
+  int told = 0;
+  LocalOptimization stage(options, graph, true, [&] {
+    std::unique_lock lock(m);
+    if (++told == 1) {  // hold the first optimization's thread until the backlog is queued
+      firstStarted = true;
+      cv.notify_all();
+      cv.wait(lock, [&] { return released; });
+    }
+  });
+  stage.keyframeAdded(6, options.noise);
+  {
+    std::unique_lock lock(m);
+    ASSERT_TRUE(cv.wait_for(lock, std::chrono::seconds(30), [&] { return firstStarted; }));
+  }
+  for (KeyframeId root : {7, 8, 9}) stage.keyframeAdded(root, options.noise);
+  {
+    std::lock_guard lock(m);
+    released = true;
+  }
+  cv.notify_all();
+  stage.waitUntilIdle();
+  EXPECT_EQ(stage.statistics().optimizations, 2u);
+  std::lock_guard lock(m);
+  EXPECT_EQ(told, 2);
 }

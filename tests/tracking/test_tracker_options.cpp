@@ -1,12 +1,15 @@
 #include <slamdunk/tracking/TrackerOptions.h>
 
+#include "LoadError.h"
 #include "TestData.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
 using namespace slamdunk;
+using ::testing::HasSubstr;
 
 TEST(TrackerOptions, DefaultIniHasTable3Values) {
   mrpt::config::CConfigFile cfg(test::sourceDir() + "/config-ini/slamdunk-default.ini");
@@ -40,16 +43,18 @@ TEST(TrackerOptions, RoundTripAndErrors) {
   EXPECT_FALSE(b.adaptiveVelocityPrior);
   EXPECT_DOUBLE_EQ(b.velocityPriorMinSigmaDegrees, 2.5);
 
-  mrpt::config::CConfigFileMemory typo("[tracker]\nwindow_sise = 4\n");
-  EXPECT_THROW(b.loadFromConfigFile(typo, "tracker"), std::invalid_argument);
-  mrpt::config::CConfigFileMemory bad("[tracker]\nratio_threshold = 1.5\n");
-  EXPECT_THROW(b.loadFromConfigFile(bad, "tracker"), std::invalid_argument);
-  mrpt::config::CConfigFileMemory negative("[tracker]\nkeypoint_scale_sigma = -0.1\n");
-  EXPECT_THROW(b.loadFromConfigFile(negative, "tracker"), std::invalid_argument);
+  auto error = [](const std::string& text) {
+    return test::loadError<TrackerOptions>("[tracker]\n" + text, "tracker");
+  };
+  EXPECT_THAT(error("ratio_treshold = 0.7\n"), HasSubstr("ratio_treshold"));
+  EXPECT_THAT(error("ratio_threshold = 1.5\n"), HasSubstr("[tracker] ratio_threshold"));
+  EXPECT_THAT(error("keypoint_scale_sigma = -0.1\n"), HasSubstr("keypoint_scale_sigma"));
+  EXPECT_THAT(error("edge_information = scalar\n"),
+              HasSubstr("'scalar' is not one of paper, isotropic or anisotropic"));
   // The narrowest prior may not be wider than the widest.
-  mrpt::config::CConfigFileMemory inverted(
-      "[tracker]\nvelocity_prior_sigma_deg = 6\nvelocity_prior_min_sigma_deg = 8\n");
-  EXPECT_THROW(b.loadFromConfigFile(inverted, "tracker"), std::invalid_argument);
+  EXPECT_THAT(error("velocity_prior_sigma_deg = 6\nvelocity_prior_min_sigma_deg = 8\n"),
+              HasSubstr("must not exceed"));
+  EXPECT_EQ(error("edge_information = Isotropic\n"), "");
 }
 
 TEST(LocalMapOptions, RoundTripAndErrors) {
@@ -67,25 +72,17 @@ TEST(LocalMapOptions, RoundTripAndErrors) {
   EXPECT_EQ(b.pool.seed, 11u);
   EXPECT_EQ(b.pool.index, PoolIndexType::Exact);
 
-  mrpt::config::CConfigFileMemory typo("[local_map]\nwindow_sise = 4\n");
-  EXPECT_THROW(b.loadFromConfigFile(typo, "local_map"), std::invalid_argument);
-  mrpt::config::CConfigFileMemory bad("[local_map]\nwindow_size = 0\n");
-  EXPECT_THROW(b.loadFromConfigFile(bad, "local_map"), std::invalid_argument);
-  mrpt::config::CConfigFileMemory badPool("[local_map]\nknn_neighbours = 1\n");
-  EXPECT_THROW(b.loadFromConfigFile(badPool, "local_map"), std::invalid_argument);
+  auto error = [](const std::string& text) {
+    return test::loadError<LocalMapOptions>("[local_map]\n" + text, "local_map");
+  };
+  EXPECT_THAT(error("window_sise = 4\n"), HasSubstr("window_sise"));
+  EXPECT_THAT(error("window_size = 0\n"), HasSubstr("[local_map] window_size must be > 0"));
+  EXPECT_THAT(error("knn_neighbours = 1\n"), HasSubstr("knn_neighbours"));
+  EXPECT_THAT(error("pool_index = kdtree\n"), HasSubstr("not one of flann, nanoflann or exact"));
 }
 
 // An INI written before [local_map] existed fails naming the key's new section.
 TEST(TrackerOptions, KeyMovedToLocalMapIsNamed) {
-  mrpt::config::CConfigFileMemory old("[tracker]\nwindow_size = 4\n");
-  TrackerOptions o;
-  try {
-    o.loadFromConfigFile(old, "tracker");
-    FAIL() << "window_size accepted in [tracker]";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(
-        std::string(e.what()).find("[tracker] window_size now belongs to section [local_map]"),
-        std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT(test::loadError<TrackerOptions>("[tracker]\nwindow_size = 4\n", "tracker"),
+              HasSubstr("[tracker] window_size now belongs to section [local_map]"));
 }

@@ -1,5 +1,6 @@
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
+#include <slamdunk/core/TextParsing.h>
 
 #include <algorithm>
 #include <cctype>
@@ -25,6 +26,12 @@ std::string lower(std::string s) {
 IniSectionReader::IniSectionReader(const mrpt::config::CConfigFileBase& cfg, std::string section)
     : cfg_(cfg), section_(std::move(section)) {}
 
+void IniSectionReader::failChoice(const std::string& key, const std::string& name,
+                                  const std::string& choices) const {
+  throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(name) +
+                              "' is not one of " + choices);
+}
+
 bool IniSectionReader::sectionExists() const { return cfg_.sectionExists(section_); }
 
 std::string IniSectionReader::rawValue(const std::string& key, bool& found) {
@@ -46,12 +53,11 @@ double IniSectionReader::readDouble(const std::string& key, double defaultValue)
   bool found;
   const std::string v = rawValue(key, found);
   if (!found) return defaultValue;
-  char* end = nullptr;
-  const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || end != v.c_str() + v.size() || !std::isfinite(x))
+  const std::optional<double> x = parseNumber(v);
+  if (!x || !std::isfinite(*x))
     throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(v) +
                                 "' is not a finite number");
-  return x;
+  return *x;
 }
 
 int IniSectionReader::readInt(const std::string& key, int defaultValue) {
@@ -64,6 +70,14 @@ int IniSectionReader::readInt(const std::string& key, int defaultValue) {
     throw std::invalid_argument("[" + section_ + "] " + key + " = '" + printableText(v) +
                                 "' is not an integer");
   return static_cast<int>(x);
+}
+
+void IniSectionReader::operator()(const std::string& key, size_t& value) {
+  const int count = readInt(key, static_cast<int>(value));
+  if (count < 0)
+    throw std::invalid_argument("[" + section_ + "] " + key + " = " + std::to_string(count) +
+                                " is not a count (a whole number >= 0)");
+  value = static_cast<size_t>(count);
 }
 
 bool IniSectionReader::readBool(const std::string& key, bool defaultValue) {
@@ -95,12 +109,11 @@ std::vector<double> IniSectionReader::readDoubles(const std::string& key,
   std::vector<double> out;
   std::string tok;
   while (in >> tok) {
-    char* end = nullptr;
-    const double x = std::strtod(tok.c_str(), &end);
-    if (end != tok.c_str() + tok.size() || !std::isfinite(x))
+    const std::optional<double> x = parseNumber(tok);
+    if (!x || !std::isfinite(*x))
       throw std::invalid_argument("[" + section_ + "] " + key + ": '" + printableText(tok) +
                                   "' is not a finite number");
-    out.push_back(x);
+    out.push_back(*x);
   }
   if (expectedCount >= 0 && static_cast<int>(out.size()) != expectedCount)
     throw std::invalid_argument("[" + section_ + "] " + key + " needs " +

@@ -1,6 +1,7 @@
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/PrefetchingRawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/WorkerThread.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -13,12 +14,7 @@ PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t
 }
 
 PrefetchingRawlogReader::~PrefetchingRawlogReader() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  changed_.notify_all();
-  thread_.join();
+  stopWorker(thread_, mutex_, changed_, stopping_);
 }
 
 void PrefetchingRawlogReader::readLoop() {

@@ -47,6 +47,20 @@ void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs) {
   if (obs.hasConfidenceImage) obs.confidenceImage.forceLoad();
 }
 
+void setDepthImage(mrpt::obs::CObservation3DRangeScan& obs, const cv::Mat& depth,
+                   double depthFactor) {
+  CV_Assert(depth.type() == CV_16UC1);
+  obs.hasRangeImage = true;
+  obs.range_is_depth = true;
+  obs.rangeImage_setSize(depth.rows, depth.cols);
+  for (int r = 0; r < depth.rows; ++r) {
+    const uint16_t* row = depth.ptr<uint16_t>(r);
+    for (int c = 0; c < depth.cols; ++c) obs.rangeImage(r, c) = row[c];
+  }
+  obs.rangeUnits = static_cast<float>(1.0 / depthFactor);
+  obs.maxRange = static_cast<float>(65535.0 / depthFactor);
+}
+
 std::shared_ptr<mrpt::obs::CObservation3DRangeScan> selfContainedCopy(
     const mrpt::obs::CObservation3DRangeScan& obs) {
   loadExternalImages(obs);

@@ -2,6 +2,8 @@
 #include <slamdunk/core/ErrorText.h>
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/core/PngHeader.h>
+#include <slamdunk/core/RgbdFrame.h>
+#include <slamdunk/core/TextParsing.h>
 #include <slamdunk/core/TimestampAssociation.h>
 #include <slamdunk/core/TumSequence.h>
 
@@ -128,23 +130,16 @@ std::vector<ListEntry> readImageList(const fs::path& listPath) {
   std::ifstream in(listPath);
   if (!in) throw std::runtime_error("missing image list '" + listPath.string() + "'");
   std::vector<ListEntry> out;
-  std::string line;
-  size_t lineNo = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
+  forEachDataLine(in, [&](const std::string& line, size_t lineNo) {
     std::istringstream fields(line);
     std::string stampText, file, extra;
     fields >> stampText >> file;
-    char* end = nullptr;
-    const double stamp = std::strtod(stampText.c_str(), &end);
-    if (file.empty() || end != stampText.c_str() + stampText.size() || !std::isfinite(stamp) ||
-        (fields >> extra))
+    const std::optional<double> stamp = parseNumber(stampText);
+    if (file.empty() || !stamp || !std::isfinite(*stamp) || (fields >> extra))
       throw std::runtime_error(listPath.string() + ":" + std::to_string(lineNo) +
                                ": expected 'timestamp filename'");
-    out.push_back({stamp, file});
-  }
+    out.push_back({*stamp, file});
+  });
   return out;
 }
 
@@ -232,15 +227,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr TumSequence::loadObservation(
                              std::to_string(depthK.width) + "x" + std::to_string(depthK.height));
   if (calib.depthCamera)
     depth = registerDepthToColour(depth, depthK, K, calib.depthToColour(), 1.0 / calib.depthFactor);
-  obs->hasRangeImage = true;
-  obs->range_is_depth = true;
-  obs->rangeImage_setSize(depth.rows, depth.cols);
-  for (int r = 0; r < depth.rows; ++r) {
-    const uint16_t* row = depth.ptr<uint16_t>(r);
-    for (int c = 0; c < depth.cols; ++c) obs->rangeImage(r, c) = row[c];
-  }
-  obs->rangeUnits = static_cast<float>(1.0 / calib.depthFactor);
-  obs->maxRange = static_cast<float>(65535.0 / calib.depthFactor);
+  setDepthImage(*obs, depth, calib.depthFactor);
 
   obs->cameraParamsIntensity = K.toTCamera();
   obs->cameraParams = obs->cameraParamsIntensity;  // depth is registered to colour

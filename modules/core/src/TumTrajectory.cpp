@@ -1,5 +1,6 @@
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/ErrorText.h>
+#include <slamdunk/core/TextParsing.h>
 #include <slamdunk/core/TumTrajectory.h>
 
 #include <Eigen/Geometry>
@@ -22,12 +23,7 @@ Trajectory readTumTrajectory(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open trajectory file '" + path + "'");
   Trajectory traj;
-  std::string text;
-  size_t lineNo = 0;
-  while (std::getline(in, text)) {
-    ++lineNo;
-    const size_t first = text.find_first_not_of(" \t\r");
-    if (first == std::string::npos || text[first] == '#') continue;
+  forEachDataLine(in, [&](std::string& text, size_t lineNo) {
     // Commas are accepted as separators too (some tools write them).
     for (char& c : text)
       if (c == ',') c = ' ';
@@ -35,13 +31,11 @@ Trajectory readTumTrajectory(const std::string& path) {
     std::vector<double> v;
     std::string tok;
     while (fields >> tok) {
-      char* end = nullptr;
-      const double x = std::strtod(tok.c_str(), &end);
+      const std::optional<double> x = parseNumber(tok);
       // Quoted printable: a NUL or control byte would cut or garble the message.
-      if (end == tok.c_str() || end != tok.c_str() + tok.size())
-        fail(path, lineNo, "'" + printableText(tok) + "' is not a number");
-      if (!std::isfinite(x)) fail(path, lineNo, "non-finite value '" + printableText(tok) + "'");
-      v.push_back(x);
+      if (!x) fail(path, lineNo, "'" + printableText(tok) + "' is not a number");
+      if (!std::isfinite(*x)) fail(path, lineNo, "non-finite value '" + printableText(tok) + "'");
+      v.push_back(*x);
     }
     if (v.size() != 8)
       fail(path, lineNo,
@@ -62,7 +56,7 @@ Trajectory readTumTrajectory(const std::string& path) {
       fail(path, lineNo, e.what());
     }
     traj.push_back(sp);
-  }
+  });
   if (in.bad()) throw std::runtime_error("read error on trajectory file '" + path + "'");
   return traj;
 }

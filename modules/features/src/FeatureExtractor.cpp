@@ -13,68 +13,19 @@
 
 namespace slamdunk {
 
-FeatureType featureTypeFromString(const std::string& name) {
-  std::string n = name;
-  std::transform(n.begin(), n.end(), n.begin(), ::toupper);
-  if (n == "SURF64" || n == "SURF-64" || n == "SURF") return FeatureType::SURF64;
-  if (n == "SURF128" || n == "SURF-128") return FeatureType::SURF128;
-  if (n == "SIFT") return FeatureType::SIFT;
-  if (n == "ORB") return FeatureType::ORB;
-  throw std::invalid_argument("unknown feature type '" + name +
-                              "' (choose SURF64, SURF128, SIFT or ORB)");
-}
-
-std::string toString(FeatureType type) {
-  switch (type) {
-    case FeatureType::SURF64:
-      return "SURF64";
-    case FeatureType::SURF128:
-      return "SURF128";
-    case FeatureType::SIFT:
-      return "SIFT";
-    case FeatureType::ORB:
-      return "ORB";
-  }
-  return "?";
-}
-
-namespace {
-template <class Self, class Keys>
-void forEachKey(Self& o, Keys& k) {
-  k.choice("type", o.type, featureTypeFromString);
-  k("max_features", o.maxFeatures);
-  k("surf_hessian_threshold", o.surfHessianThreshold);
-  k("surf_upright", o.surfUpright);
-  k("surf_octaves", o.surfOctaves);
-  k("orb_detect_features", o.orbDetectFeatures);
-  k("orb_fast_threshold", o.orbFastThreshold);
-  k("sift_detect_features", o.siftDetectFeatures);
-  k("min_depth", o.minDepth);
-  k("max_depth", o.maxDepth);
-  k("max_depth_discontinuity", o.maxDepthDiscontinuity);
-  k("depth_check_radius", o.depthCheckRadius);
-  k("keypoint_pixel_sigma", o.noise.pixelSigma);
-  k("keypoint_depth_sigma", o.noise.depthSigmaQuadratic);
-}
-}  // namespace
-
 void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& section) {
-  IniSectionReader r(cfg, section);
-  forEachKey(*this, r);
-  r.rejectUnknownKeys();
-  if (!(noise.pixelSigma > 0 && noise.depthSigmaQuadratic > 0))
-    throw std::invalid_argument("[" + section +
-                                "] keypoint_pixel_sigma and keypoint_depth_sigma must be > 0");
-  if (maxFeatures < 3) throw std::invalid_argument("[" + section + "] max_features must be >= 3");
-  if (!(minDepth >= 0 && maxDepth > minDepth))
-    throw std::invalid_argument("[" + section + "] needs 0 <= min_depth < max_depth");
+  loadIniKeys(*this, cfg, section);
+  const SectionChecks require(section);
+  require(noise.pixelSigma > 0 && noise.depthSigmaQuadratic > 0,
+          "keypoint_pixel_sigma and keypoint_depth_sigma must be > 0");
+  require(maxFeatures >= 3, "max_features must be >= 3");
+  require(minDepth >= 0 && maxDepth > minDepth, "needs 0 <= min_depth < max_depth");
 }
 
 void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& section) const {
-  IniSectionWriter w(cfg, section);
-  forEachKey(*this, w);
+  saveIniKeys(*this, cfg, section);
 }
 
 namespace {

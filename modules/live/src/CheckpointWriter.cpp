@@ -1,3 +1,4 @@
+#include <slamdunk/core/WorkerThread.h>
 #include <slamdunk/live/CheckpointWriter.h>
 
 #include <slamdunk/core/AtomicOutput.h>
@@ -153,14 +154,7 @@ bool CheckpointWriter::dueByKeyframes() const {
   return options_.everyKeyframes > 0 && newKeyframes_ - keyframesAtLast_ >= options_.everyKeyframes;
 }
 
-void CheckpointWriter::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void CheckpointWriter::stop() { stopWorker(thread_, mutex_, wake_, stopping_); }
 
 void CheckpointWriter::writerLoop() {
   // Serializing and compressing the map is the costly part: on a machine with few cores it

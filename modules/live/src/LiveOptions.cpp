@@ -27,43 +27,23 @@ LiveOptions LiveOptions::fromFile(const std::string& path) {
     // Inside the try: MRPT's parser itself throws on some malformed files (e.g. "${X}" naming
     // an undefined variable), and that error must name the file too.
     o.config = std::make_shared<mrpt::config::CConfigFile>(path);
-    IniSectionReader r(*o.config, kSection);
-    if (!r.sectionExists()) throw std::runtime_error(std::string("no [") + kSection + "] section");
-    o.sourceSection = r.readString("source", "");
-    const std::string pipeline = r.readString("pipeline_config", "");
-    const int capacity = r.readInt("queue_capacity", static_cast<int>(o.queueCapacity));
-    o.statusPeriod = r.readDouble("status_period", o.statusPeriod);
-    o.openTimeout = r.readDouble("open_timeout", o.openTimeout);
-    o.frameTimeout = r.readDouble("frame_timeout", o.frameTimeout);
-    o.sensorStampLatencyMs = r.readDouble("sensor_stamp_latency_ms", o.sensorStampLatencyMs);
-    const int everyKeyframes =
-        r.readInt("checkpoint_every_keyframes", static_cast<int>(o.checkpoint.everyKeyframes));
-    o.checkpoint.everySeconds = r.readDouble("checkpoint_every_seconds", o.checkpoint.everySeconds);
-    o.checkpoint.folder = r.readString("checkpoint_folder", "");
-    r.rejectUnknownKeys();
-    if (o.sourceSection.empty())
-      throw std::runtime_error(std::string("[") + kSection +
-                               "] source: name the section that describes the frame source");
-    if (capacity < 1)
-      throw std::runtime_error(std::string("[") + kSection + "] queue_capacity must be >= 1");
-    if (o.openTimeout <= 0 || o.frameTimeout <= 0)
-      throw std::runtime_error(std::string("[") + kSection + "] timeouts must be > 0");
-    o.queueCapacity = static_cast<size_t>(capacity);
-    if (const std::string bad = stampLatencyProblem(o.sensorStampLatencyMs); !bad.empty())
-      throw std::runtime_error(std::string("[") + kSection + "] sensor_stamp_latency_ms " + bad);
-    if (everyKeyframes < 0 || !(o.checkpoint.everySeconds >= 0))
-      throw std::runtime_error(std::string("[") + kSection +
-                               "] checkpoint_every_keyframes and checkpoint_every_seconds must "
-                               "be >= 0 (0 = off)");
-    o.checkpoint.everyKeyframes = static_cast<size_t>(everyKeyframes);
-    if (!o.checkpoint.folder.empty() && fs::path(o.checkpoint.folder).is_relative())
-      o.checkpoint.folder = (fs::path(o.iniDir) / o.checkpoint.folder).string();
-
-    if (!pipeline.empty()) {
-      const fs::path p(pipeline);
-      o.pipelineConfig = p.is_relative() ? (fs::path(o.iniDir) / p).string() : pipeline;
-      o.slam = SlamOptions::fromFile(o.pipelineConfig);
-    }
+    if (!o.config->sectionExists(kSection))
+      throw std::runtime_error(std::string("no [") + kSection + "] section");
+    loadIniKeys(o, *o.config, kSection);
+    const SectionChecks require(kSection);
+    require(!o.sourceSection.empty(), "source: name the section that describes the frame source");
+    require(o.queueCapacity >= 1, "queue_capacity must be >= 1");
+    require(o.openTimeout > 0 && o.frameTimeout > 0, "timeouts must be > 0");
+    const std::string badLatency = stampLatencyProblem(o.sensorStampLatencyMs);
+    require(badLatency.empty(), "sensor_stamp_latency_ms " + badLatency);
+    require(o.checkpoint.everySeconds >= 0, "checkpoint_every_seconds must be >= 0 (0 = off)");
+    auto besideTheIni = [&](std::string& path) {
+      if (!path.empty() && fs::path(path).is_relative())
+        path = (fs::path(o.iniDir) / path).string();
+    };
+    besideTheIni(o.checkpoint.folder);
+    besideTheIni(o.pipelineConfig);
+    if (!o.pipelineConfig.empty()) o.slam = SlamOptions::fromFile(o.pipelineConfig);
     // Live: tracking must never wait for the local optimization nor for a feature pool. Set
     // after the pipeline file (whose defaults are for offline runs) and before the overrides,
     // so an explicit [pipeline.slam] optimizer_thread = false still wins.

@@ -1,3 +1,4 @@
+#include <slamdunk/core/WorkerThread.h>
 #include <slamdunk/live/RawlogRecorder.h>
 
 #include <slamdunk/core/RgbdFrame.h>
@@ -71,14 +72,7 @@ void RawlogRecorder::writerLoop() {
   }
 }
 
-void RawlogRecorder::stopWriter() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  ready_.notify_all();
-  if (writer_.joinable()) writer_.join();
-}
+void RawlogRecorder::stopWriter() { stopWorker(writer_, mutex_, ready_, stopping_); }
 
 void RawlogRecorder::finish() {
   stopWriter();

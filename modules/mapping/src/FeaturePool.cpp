@@ -21,25 +21,6 @@ bool insideFrustum(const Eigen::Vector3d& pc, const CameraIntrinsics& K,
 
 }  // namespace
 
-PoolIndexType poolIndexTypeFromString(const std::string& name) {
-  if (name == "flann") return PoolIndexType::Flann;
-  if (name == "nanoflann") return PoolIndexType::Nanoflann;
-  if (name == "exact") return PoolIndexType::Exact;
-  throw std::invalid_argument("pool_index = '" + name + "' (choose flann, nanoflann or exact)");
-}
-
-std::string toString(PoolIndexType t) {
-  switch (t) {
-    case PoolIndexType::Flann:
-      return "flann";
-    case PoolIndexType::Nanoflann:
-      return "nanoflann";
-    case PoolIndexType::Exact:
-      return "exact";
-  }
-  return "?";
-}
-
 /// nanoflann's view of the descriptor rows, and its tree over them.
 struct PoolPart::NanoflannIndex {
   struct Rows {

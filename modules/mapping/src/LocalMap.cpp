@@ -1,4 +1,5 @@
 #include <slamdunk/core/Stopwatch.h>
+#include <slamdunk/core/WorkerThread.h>
 #include <slamdunk/mapping/LocalMap.h>
 
 #include <algorithm>
@@ -31,14 +32,7 @@ LocalMap::LocalMap(const LocalMapOptions& options, std::shared_ptr<KeyframeGraph
   if (options_.backgroundPreparation) worker_ = std::thread([this] { workerLoop(); });
 }
 
-LocalMap::~LocalMap() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  workAvailable_.notify_all();
-  if (worker_.joinable()) worker_.join();
-}
+LocalMap::~LocalMap() { stopWorker(worker_, mutex_, workAvailable_, stopping_); }
 
 double LocalMap::beginFrame() {
   ++frame_;

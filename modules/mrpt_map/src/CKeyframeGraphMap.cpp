@@ -94,31 +94,16 @@ void forEachMapPoint(const KeyframeGraph& graph, const CKeyframeGraphMap::TRende
 
 void CKeyframeGraphMap::TRenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                            const std::string& section) {
-  IniSectionReader r(cfg, section);
-  cloudDecimation = r.readInt("cloud_decimation", cloudDecimation);
-  maxDepth = float(r.readDouble("max_depth", maxDepth));
-  pointSize = float(r.readDouble("point_size", pointSize));
-  showPoints = r.readBool("show_points", showPoints);
-  showFrustums = r.readBool("show_frustums", showFrustums);
-  showEdges = r.readBool("show_edges", showEdges);
-  frustumSize = float(r.readDouble("frustum_size", frustumSize));
-  r.rejectUnknownKeys();
-  if (cloudDecimation < 1)
-    throw std::invalid_argument("[" + section + "] cloud_decimation must be >= 1");
-  if (!(maxDepth > 0) || !(pointSize > 0) || !(frustumSize > 0))
-    throw std::invalid_argument("[" + section +
-                                "] max_depth, point_size and frustum_size must be > 0");
+  loadIniKeys(*this, cfg, section);
+  const SectionChecks require(section);
+  require(cloudDecimation >= 1, "cloud_decimation must be >= 1");
+  require(maxDepth > 0 && pointSize > 0 && frustumSize > 0,
+          "max_depth, point_size and frustum_size must be > 0");
 }
 
 void CKeyframeGraphMap::TRenderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                                         const std::string& s) const {
-  cfg.write(s, "cloud_decimation", cloudDecimation);
-  cfg.write(s, "max_depth", maxDepth);
-  cfg.write(s, "point_size", pointSize);
-  cfg.write(s, "show_points", showPoints);
-  cfg.write(s, "show_frustums", showFrustums);
-  cfg.write(s, "show_edges", showEdges);
-  cfg.write(s, "frustum_size", frustumSize);
+                                                         const std::string& section) const {
+  saveIniKeys(*this, cfg, section);
 }
 
 CKeyframeGraphMap::TMapDefinition::TMapDefinition() = default;

@@ -43,6 +43,19 @@ const Pose& poseOf(const LocalProblem& p, const std::map<KeyframeId, Pose>& free
   const auto it = freePoses.find(id);
   return it != freePoses.end() ? it->second : p.poses.at(id);
 }
+
+/// Takes a solved reweighting round's cost into `r`; true when the rounds are over. A plain
+/// (not robust) cost needs one round; a robust one is settled once a round gains less than
+/// `tolerance` of the cost, and is then converged whatever the solver said.
+bool lastRound(BundleAdjustmentResult& r, double cost, double tolerance, bool robust,
+               const ceres::Solver::Summary& summary) {
+  const bool settled = r.finalCost - cost <= tolerance * r.finalCost;
+  r.finalCost = cost;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  if (robust && !settled) return false;
+  r.converged = r.converged || settled;
+  return true;
+}
 }  // namespace
 
 BundleAdjuster::BundleAdjuster(const LocalOptimizerOptions& options)
@@ -152,14 +165,8 @@ BundleAdjustmentResult BundleAdjuster::solveEdgeForm(const LocalProblem& p) cons
       r.converged = true;
       break;
     }
-    const bool settled = r.finalCost - c <= options_.functionTolerance * r.finalCost;
     current = std::move(next);
-    r.finalCost = c;
-    r.converged = summary.termination_type == ceres::CONVERGENCE;
-    if (!rho_ || settled) {
-      r.converged = r.converged || settled;
-      break;
-    }
+    if (lastRound(r, c, options_.functionTolerance, rho_ != nullptr, summary)) break;
   }
   r.rounds = std::min(r.rounds, maxRounds);
   r.freePoses = std::move(current);
@@ -198,6 +205,8 @@ BundleAdjustmentResult BundleAdjuster::solveMatchForm(const LocalProblem& p) con
 }
 
 namespace {
+// Settled when a round gains less than 0.1 %: the weights then hardly change, and the poses
+// move by far less than their noise (each round is a full solve: not for 1e-6).
 constexpr double kLandmarkRoundsTolerance = 1e-3;
 }  // namespace
 
@@ -300,15 +309,7 @@ BundleAdjustmentResult BundleAdjuster::solveLandmarkForm(const LocalProblem& p) 
       r.message = "non-finite cost after solving: " + summary.message;
       return r;
     }
-    // Settled when a round gains less than 0.1 %: the weights then hardly change, and the
-    // poses move by far less than their noise (each round is a full solve: not for 1e-6).
-    const bool settled = r.finalCost - cost <= kLandmarkRoundsTolerance * r.finalCost;
-    r.finalCost = cost;
-    r.converged = summary.termination_type == ceres::CONVERGENCE;
-    if (!robust || settled) {
-      r.converged = r.converged || settled;
-      break;
-    }
+    if (lastRound(r, cost, kLandmarkRoundsTolerance, robust, summary)) break;
   }
   r.rounds = std::min(r.rounds, maxRounds);
   r.freePoses = params.freePoses();

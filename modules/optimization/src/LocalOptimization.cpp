@@ -1,3 +1,4 @@
+#include <slamdunk/core/WorkerThread.h>
 #include <slamdunk/optimization/LocalOptimization.h>
 
 #include <algorithm>
@@ -11,14 +12,7 @@ LocalOptimization::LocalOptimization(const LocalOptimizerOptions& options,
   if (ownThread) thread_ = std::thread([this] { loop(); });
 }
 
-LocalOptimization::~LocalOptimization() {
-  {
-    std::lock_guard lock(jobMutex_);
-    stopping_ = true;
-  }
-  jobCv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+LocalOptimization::~LocalOptimization() { stopWorker(thread_, jobMutex_, jobCv_, stopping_); }
 
 void LocalOptimization::keyframeAdded(KeyframeId root, const DepthNoiseModel& noise) {
   if (!thread_.joinable()) {

@@ -1,3 +1,4 @@
+#include <slamdunk/core/WorkerThread.h>
 #include <slamdunk/slam/FrameCsvLog.h>
 
 #include <cstdio>
@@ -60,14 +61,7 @@ void FrameCsvLog::writerLoop() {
   }
 }
 
-void FrameCsvLog::stopWriter() {
-  if (!writer_.joinable()) return;
-  std::unique_lock lock(mutex_);
-  stopping_ = true;
-  lock.unlock();
-  wake_.notify_all();
-  writer_.join();
-}
+void FrameCsvLog::stopWriter() { stopWorker(writer_, mutex_, wake_, stopping_); }
 
 void FrameCsvLog::finish() {
   stopWriter();

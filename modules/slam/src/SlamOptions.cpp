@@ -26,11 +26,7 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
   tracker.localMap.loadFromConfigFile(cfg, prefix + "local_map");
   tracker.loadFromConfigFile(cfg, prefix + "tracker");
   optimizer.loadFromConfigFile(cfg, prefix + "optimizer");
-  IniSectionReader r(cfg, prefix + "slam");
-  localOptimization = r.readBool("local_optimization", localOptimization);
-  optimizerThread = r.readBool("optimizer_thread", optimizerThread);
-  globalPassAtEnd = r.readBool("global_pass_at_end", globalPassAtEnd);
-  r.rejectUnknownKeys();
+  loadIniKeys(*this, cfg, prefix + "slam");
 }
 
 void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -39,9 +35,7 @@ void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   tracker.localMap.saveToConfigFile(cfg, prefix + "local_map");
   tracker.saveToConfigFile(cfg, prefix + "tracker");
   optimizer.saveToConfigFile(cfg, prefix + "optimizer");
-  cfg.write(prefix + "slam", "local_optimization", localOptimization);
-  cfg.write(prefix + "slam", "optimizer_thread", optimizerThread);
-  cfg.write(prefix + "slam", "global_pass_at_end", globalPassAtEnd);
+  saveIniKeys(*this, cfg, prefix + "slam");
 }
 
 SlamOptions SlamOptions::fromFile(const std::string& path) {

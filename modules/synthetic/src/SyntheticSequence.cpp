@@ -2,6 +2,7 @@
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/synthetic/SyntheticRenderer.h>
 #include <slamdunk/synthetic/SyntheticScene.h>
 
@@ -295,15 +296,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr SyntheticSequence::observation(size_t i,
   obs->timestamp = mrpt::Clock::fromDouble(groundTruth_[i].timestamp);
   obs->hasIntensityImage = true;
   obs->intensityImage = mrpt::img::CImage(bgr, mrpt::img::DEEP_COPY);
-  obs->hasRangeImage = true;
-  obs->range_is_depth = true;
-  obs->rangeImage_setSize(raw.rows, raw.cols);
-  for (int r = 0; r < raw.rows; ++r) {
-    const uint16_t* row = raw.ptr<uint16_t>(r);
-    for (int c = 0; c < raw.cols; ++c) obs->rangeImage(r, c) = row[c];
-  }
-  obs->rangeUnits = static_cast<float>(1.0 / kDepthFactor);
-  obs->maxRange = static_cast<float>(65535.0 / kDepthFactor);
+  setDepthImage(*obs, raw, kDepthFactor);
   obs->cameraParamsIntensity = options_.statedIntrinsics().toTCamera();
   obs->cameraParams = obs->cameraParamsIntensity;  // depth is registered to colour
   obs->relativePoseIntensityWRTDepth =

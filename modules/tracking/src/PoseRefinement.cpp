@@ -1,4 +1,5 @@
 #include <slamdunk/core/DepthNoiseModel.h>
+#include <slamdunk/core/Pose.h>
 #include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 
@@ -10,14 +11,6 @@
 #include <optional>
 
 namespace slamdunk {
-
-namespace {
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-}  // namespace
 
 cv::Mat fitPlaneNormals(const cv::Mat& depth, const CameraIntrinsics& K, int radius) {
   cv::Mat normals(depth.size(), CV_32FC3, cv::Scalar::all(0));
@@ -189,7 +182,7 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
     Eigen::Matrix<double, 1, 6> J;
     const Eigen::RowVector3d nR = c.normal.transpose() * Rrw;
     J.leftCols<3>() = nR;
-    J.rightCols<3>() = -nR * skew(x);
+    J.rightCols<3>() = -nR * skewSymmetric(x);
     H += w * J.transpose() * J;
     g += w * J.transpose() * r;
   }
@@ -231,7 +224,7 @@ Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
       // velocity moves the source: de/dν = R dsource/dν.
       Eigen::Matrix<double, 3, 12> J;
       J.leftCols<3>() = Eigen::Matrix3d::Identity();
-      J.middleCols<3>(3) = -skew(q);
+      J.middleCols<3>(3) = -skewSymmetric(q);
       J.rightCols<6>() = R * p.velocityJacobian;
       H.topLeftCorner(n, n) += w * J.leftCols(n).transpose() * info * J.leftCols(n);
       g.head(n) += w * J.leftCols(n).transpose() * info * e;

@@ -1,3 +1,4 @@
+#include <slamdunk/core/Pose.h>
 #include <slamdunk/tracking/RollingShutterEstimator.h>
 
 #include <Eigen/Cholesky>
@@ -8,14 +9,6 @@
 #include <limits>
 
 namespace slamdunk {
-
-namespace {
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-}  // namespace
 
 RollingShutterEstimator::RollingShutterEstimator(double initialMs,
                                                  const RollingShutterEstimatorOptions& options)
@@ -51,7 +44,7 @@ void RollingShutterEstimator::addFrame(const std::vector<InlierSample>& inliers,
     const double d = std::sqrt(std::max(0.0, r.dot(W * r)));
     const double robust = d <= options_.huberSigmas ? 1.0 : options_.huberSigmas / d;
     Eigen::Matrix<double, 3, 7> J;
-    J.block<3, 3>(0, 0) = skew(x);
+    J.block<3, 3>(0, 0) = skewSymmetric(x);
     J.block<3, 3>(0, 3) = -Eigen::Matrix3d::Identity();
     J.col(6) = -s.rowFraction * (omega.cross(s.framePoint) + velocity);
     H += robust * J.transpose() * W * J;

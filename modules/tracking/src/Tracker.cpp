@@ -28,18 +28,6 @@ void report(Registration& registration, TrackingResult& r) {
 }
 }  // namespace
 
-const char* toString(TrackingStatus s) {
-  switch (s) {
-    case TrackingStatus::Initialized:
-      return "initialized";
-    case TrackingStatus::Tracked:
-      return "tracked";
-    case TrackingStatus::Lost:
-      return "lost";
-  }
-  return "?";
-}
-
 Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOptions,
                  std::shared_ptr<KeyframeGraph> graph)
     : options_(options),

@@ -7,77 +7,12 @@
 
 namespace slamdunk {
 
-EdgeInformation edgeInformationFromString(const std::string& name) {
-  if (name == "paper") return EdgeInformation::Paper;
-  if (name == "isotropic") return EdgeInformation::Isotropic;
-  if (name == "anisotropic") return EdgeInformation::Anisotropic;
-  throw std::invalid_argument("edge_information = '" + name +
-                              "' (choose paper, isotropic or anisotropic)");
-}
-
-std::string toString(EdgeInformation e) {
-  switch (e) {
-    case EdgeInformation::Paper:
-      return "paper";
-    case EdgeInformation::Isotropic:
-      return "isotropic";
-    case EdgeInformation::Anisotropic:
-      return "anisotropic";
-  }
-  return "?";
-}
-
-namespace {
-template <class Self, class Keys>
-void forEachKey(Self& o, Keys& k) {
-  k("ratio_threshold", o.ratioThreshold);
-  k("loop_hop_threshold", o.loopHopThreshold);
-  k("loop_min_inliers", o.loopMinInliers);
-  k("edge_min_matches", o.edgeMinMatches);
-  k("min_features", o.minFeatures);
-  k("relocalize_after", o.relocalizeAfter);
-  k("relocalize_min_inliers", o.relocalizeMinInliers);
-  k("max_translation_jump", o.maxTranslationJump);
-  k("keep_keyframe_images", o.keepKeyframeImages);
-  k("weighted_refit", o.weightedRefit);
-  k.choice("edge_information", o.edgeInformation, edgeInformationFromString);
-  k("keypoint_scale_sigma", o.keypointScaleSigma);
-  k("anisotropic_refinement", o.anisotropicRefinement);
-  k("depth_alignment_weight", o.depthAlignmentWeight);
-  k("depth_alignment_stride", o.depthAlignmentStride);
-  k("depth_alignment_max_distance", o.depthAlignmentMaxDistance);
-  k("depth_alignment_max_depth", o.depthAlignmentMaxDepth);
-  k("depth_alignment_central_normals", o.depthAlignmentCentralNormals);
-  k("depth_edges", o.depthEdges);
-  k("depth_edge_max_matches", o.depthEdgeMaxMatches);
-  k("depth_edge_weight", o.depthEdgeWeight);
-  k("depth_only_fallback", o.depthOnlyFallback);
-  k("estimate_keypoint_noise", o.noiseEstimation.enabled);
-  k("estimate_rolling_shutter", o.rollingShutterEstimation.enabled);
-  k("estimate_frame_velocity", o.estimateFrameVelocity);
-  k("velocity_prior_sigma_m", o.velocityPriorSigmaMetres);
-  k("velocity_prior_sigma_deg", o.velocityPriorSigmaDegrees);
-  k("velocity_prior_adaptive", o.adaptiveVelocityPrior);
-  k("velocity_prior_min_sigma_m", o.velocityPriorMinSigmaMetres);
-  k("velocity_prior_min_sigma_deg", o.velocityPriorMinSigmaDegrees);
-  DepthOnlyOptions::forEachKey(o.depthOnly, k);
-  SensorTimingOptions::forEachKey(o.sensorTiming, k);
-  RansacOptions::forEachKey(o.ransac, k);
-  KeyframePolicyOptions::forEachKey(o.keyframes, k);
-}
-}  // namespace
-
 void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& section) {
-  IniSectionReader r(cfg, section);
-  forEachKey(*this, r);
   std::map<std::string, std::string> moved;
-  for (const std::string& key : LocalMapOptions::keyNames()) moved[key] = "local_map";
-  r.rejectUnknownKeys(moved);
-
-  auto require = [&](bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument("[" + section + "] " + what);
-  };
+  for (const std::string& key : iniKeyNames<LocalMapOptions>()) moved[key] = "local_map";
+  loadIniKeys(*this, cfg, section, moved);
+  const SectionChecks require(section);
   require(ratioThreshold > 0 && ratioThreshold <= 1, "ratio_threshold must be in (0, 1]");
   require(keypointScaleSigma >= 0 && std::isfinite(keypointScaleSigma),
           "keypoint_scale_sigma must be a finite number >= 0");
@@ -110,8 +45,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& section) const {
-  IniSectionWriter w(cfg, section);
-  forEachKey(*this, w);
+  saveIniKeys(*this, cfg, section);
 }
 
 }  // namespace slamdunk

@@ -33,6 +33,13 @@ double rotationAngle(const Pose& p);
 double rotationDistance(const Pose& a, const Pose& b);
 double translationDistance(const Pose& a, const Pose& b);
 
+/// The matrix [v]x with [v]x w = v x w (the derivative of a small rotation applied to w).
+inline Eigen::Matrix3d skewSymmetric(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 /// The pose with its rotation part projected back onto SO(3) (undoes rounding in products).
 Pose orthonormalized(const Pose& p);
 

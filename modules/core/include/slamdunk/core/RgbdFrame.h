@@ -31,6 +31,11 @@ float interpolatedDepth(const cv::Mat& depth, double u, double v);
 /// is missing or unreadable.
 void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs);
 
+/// Gives `obs` a 16-bit depth image (CV_16UC1, `depthFactor` units per metre as in TUM's
+/// PNGs) as its range image: depth along the optical axis, its units and the range they reach.
+void setDepthImage(mrpt::obs::CObservation3DRangeScan& obs, const cv::Mat& depth,
+                   double depthFactor);
+
 /// A deep copy of `obs` that holds its images itself: loaded (see loadExternalImages) and no
 /// longer pointing into an images folder, whose names are relative to the source's rawlog and
 /// mean nothing beside a copy written elsewhere (a recording, an edited rawlog). The copy shares

@@ -3,6 +3,7 @@
 // cap), describes them and back-projects them (undistorted keypoint, depth at its pixel).
 
 #include <slamdunk/core/DepthNoiseModel.h>
+#include <slamdunk/core/EnumNames.h>
 #include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/features/FeatureSet.h>
 
@@ -16,9 +17,13 @@ namespace slamdunk {
 
 enum class FeatureType { SURF64, SURF128, SIFT, ORB };
 
-/// Parses "SURF64", "SURF128", "SIFT", "ORB" (case-insensitive); throws naming the value.
-FeatureType featureTypeFromString(const std::string& name);
-std::string toString(FeatureType type);
+SLAMDUNK_ENUM_NAMES(FeatureType, {{FeatureType::SURF64, "SURF64"},
+                                  {FeatureType::SURF64, "SURF-64"},
+                                  {FeatureType::SURF64, "SURF"},
+                                  {FeatureType::SURF128, "SURF128"},
+                                  {FeatureType::SURF128, "SURF-128"},
+                                  {FeatureType::SIFT, "SIFT"},
+                                  {FeatureType::ORB, "ORB"}});
 
 struct FeatureOptions : public mrpt::config::CLoadableOptions {
   FeatureType type = FeatureType::SURF64;
@@ -38,6 +43,25 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
   /// How precisely a feature is measured: its keypoint's pixel and the depth read there. Used
   /// wherever features are weighed (pose refinement, graph edges, bundle adjustment).
   DepthNoiseModel noise;
+
+  /// Its INI keys (section [features]), listed once for loading and saving.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("type", o.type);
+    k("max_features", o.maxFeatures);
+    k("surf_hessian_threshold", o.surfHessianThreshold);
+    k("surf_upright", o.surfUpright);
+    k("surf_octaves", o.surfOctaves);
+    k("orb_detect_features", o.orbDetectFeatures);
+    k("orb_fast_threshold", o.orbFastThreshold);
+    k("sift_detect_features", o.siftDetectFeatures);
+    k("min_depth", o.minDepth);
+    k("max_depth", o.maxDepth);
+    k("max_depth_discontinuity", o.maxDepthDiscontinuity);
+    k("depth_check_radius", o.depthCheckRadius);
+    k("keypoint_pixel_sigma", o.noise.pixelSigma);
+    k("keypoint_depth_sigma", o.noise.depthSigmaQuadratic);
+  }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

@@ -50,6 +50,21 @@ struct LiveOptions {
   SlamOptions slam = liveSlamDefaults();  ///< the live defaults below, then the INI's values
   std::shared_ptr<mrpt::config::CConfigFile> config;  ///< kept for the source section
 
+  /// Its INI keys (section [slamdunk-live]); the pipeline's sections are SlamOptions'.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("source", o.sourceSection);
+    k("pipeline_config", o.pipelineConfig);
+    k("queue_capacity", o.queueCapacity);
+    k("status_period", o.statusPeriod);
+    k("open_timeout", o.openTimeout);
+    k("frame_timeout", o.frameTimeout);
+    k("sensor_stamp_latency_ms", o.sensorStampLatencyMs);
+    k("checkpoint_every_keyframes", o.checkpoint.everyKeyframes);
+    k("checkpoint_every_seconds", o.checkpoint.everySeconds);
+    k("checkpoint_folder", o.checkpoint.folder);
+  }
+
   /// Throws std::runtime_error naming the file and the bad key or section.
   static LiveOptions fromFile(const std::string& path);
 

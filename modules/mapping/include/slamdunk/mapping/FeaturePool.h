@@ -9,6 +9,7 @@
 // any thread and shared by every pool that contains it.
 
 #include <slamdunk/core/CameraIntrinsics.h>
+#include <slamdunk/core/EnumNames.h>
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 
@@ -29,8 +30,9 @@ enum class PoolIndexType {
   Nanoflann,  ///< nanoflann single KD-tree: exact, cheap to build, slow to search in 64-D
   Exact       ///< brute force for every part: the reference for accuracy measurements
 };
-PoolIndexType poolIndexTypeFromString(const std::string& name);
-std::string toString(PoolIndexType t);
+SLAMDUNK_ENUM_NAMES(PoolIndexType, {{PoolIndexType::Flann, "flann"},
+                                    {PoolIndexType::Nanoflann, "nanoflann"},
+                                    {PoolIndexType::Exact, "exact"}});
 
 struct FeaturePoolOptions {
   PoolIndexType index = PoolIndexType::Flann;
@@ -50,7 +52,7 @@ struct FeaturePoolOptions {
   /// Its INI keys (in [local_map]), listed once for IniSectionReader and IniSectionWriter.
   template <class Self, class Keys>
   static void forEachKey(Self& o, Keys& k) {
-    k.choice("pool_index", o.index, poolIndexTypeFromString);
+    k("pool_index", o.index);
     k("kdtree_trees", o.kdTrees);
     k("kdtree_checks", o.checks);
     k("pool_brute_force_below", o.bruteForceBelow);

@@ -50,15 +50,24 @@ struct LocalMapOptions : public mrpt::config::CLoadableOptions {
   int handoverFeaturesPerFrame = 3000;
   FeaturePoolOptions pool;
 
+  /// Its INI keys (section [local_map]), listed once for loading and saving.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("window_size", o.windowSize);
+    k("window_shift", o.windowShift);
+    k("window_shift_angle", o.windowShiftAngle);
+    k("pool_in_background", o.backgroundPreparation);
+    k("pool_handover_frames", o.handoverFrames);
+    k("pool_handover_features_per_frame", o.handoverFeaturesPerFrame);
+    FeaturePoolOptions::forEachKey(o.pool, k);
+  }
+
   /// Section [local_map]: the window's keys and its pool's. Unknown keys and bad values are
   /// errors naming them.
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                         const std::string& section) const override;
-  /// The keys of this section, for the sections they once belonged to (an old INI file's
-  /// [tracker] window_size fails naming [local_map]).
-  static std::vector<std::string> keyNames();
 };
 
 /// What the pool preparation cost so far.

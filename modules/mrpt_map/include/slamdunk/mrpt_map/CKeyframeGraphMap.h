@@ -65,6 +65,18 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
     bool showEdges = true;     ///< lines between the centres of matched keyframes
     float frustumSize = 0.1f;  ///< metres from the camera centre to the frustum's far plane
 
+    /// Its INI keys (section <map>_renderOpts), listed once for loading and saving.
+    template <class Self, class Keys>
+    static void forEachKey(Self& o, Keys& k) {
+      k("cloud_decimation", o.cloudDecimation);
+      k("max_depth", o.maxDepth);
+      k("point_size", o.pointSize);
+      k("show_points", o.showPoints);
+      k("show_frustums", o.showFrustums);
+      k("show_edges", o.showEdges);
+      k("frustum_size", o.frustumSize);
+    }
+
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

@@ -4,6 +4,7 @@
 // Ceres is an implementation detail: this header does not include it.
 
 #include <slamdunk/core/DepthNoiseModel.h>
+#include <slamdunk/core/EnumNames.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/optimization/LocalOptimizationReport.h>
 
@@ -15,9 +16,9 @@ namespace slamdunk {
 
 enum class RobustLoss { None, Huber, Cauchy };
 
-/// Parses "none", "huber", "cauchy" (case-insensitive); throws naming the value.
-RobustLoss robustLossFromString(const std::string& name);
-std::string toString(RobustLoss loss);
+SLAMDUNK_ENUM_NAMES(RobustLoss, {{RobustLoss::None, "none"},
+                                 {RobustLoss::Huber, "huber"},
+                                 {RobustLoss::Cauchy, "cauchy"}});
 
 /// The cost the local optimization minimises. Edge and match are paper Eq. 4 (3D-3D point
 /// differences): edge, one residual per edge built from the matches' weighted moments (same
@@ -27,8 +28,9 @@ std::string toString(RobustLoss loss);
 /// (one 3D point per scene point, optimised too), each observed in pixels and depth with the
 /// features' own precisions (LandmarkResidual).
 enum class ResidualForm { Edge, Match, Landmarks };
-ResidualForm residualFormFromString(const std::string& name);
-std::string toString(ResidualForm form);
+SLAMDUNK_ENUM_NAMES(ResidualForm, {{ResidualForm::Edge, "edge"},
+                                   {ResidualForm::Match, "match"},
+                                   {ResidualForm::Landmarks, "landmarks"}});
 
 struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   int rings = 3;  ///< R (paper Table 3): rings 0..R-1 are free, ring R is held fixed
@@ -50,6 +52,22 @@ struct LocalOptimizerOptions : public mrpt::config::CLoadableOptions {
   /// Landmark form: precision of the features' pixels and depths. Not an [optimizer] key: the
   /// pipeline takes it from [features] (the same model weighs them in tracking).
   DepthNoiseModel noise;
+
+  /// Its INI keys (section [optimizer]), listed once for loading and saving.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("rings", o.rings);
+    k("robust_loss", o.robustLoss);
+    k("robust_loss_scale", o.robustLossScale);
+    k("max_iterations", o.maxIterations);
+    k("function_tolerance", o.functionTolerance);
+    k("num_threads", o.numThreads);
+    k("min_weight", o.minWeight);
+    k("max_solver_time_ms", o.maxSolverTimeMs);
+    k("residual_form", o.residualForm);
+    k("irls_max_rounds", o.irlsMaxRounds);
+    k("landmark_loss_scale", o.landmarkLossScale);
+  }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;

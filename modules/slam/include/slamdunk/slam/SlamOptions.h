@@ -22,6 +22,14 @@ struct SlamOptions : public mrpt::config::CLoadableOptions {
   bool globalPassAtEnd = false;   ///< one optimization over the whole graph at the end
 
   /// Reads the sections of a pipeline INI; sections absent keep their defaults.
+  /// Its own INI keys (section [slam]; each module's options have their own section).
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("local_optimization", o.localOptimization);
+    k("optimizer_thread", o.optimizerThread);
+    k("global_pass_at_end", o.globalPassAtEnd);
+  }
+
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& sectionPrefix = "") override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

@@ -8,6 +8,7 @@
 // The tracker never optimizes: it reports new keyframes, and whoever runs the optimizer (in the
 // same or another thread) calls notifyMapChanged() afterwards.
 
+#include <slamdunk/core/EnumNames.h>
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/mapping/FeaturePool.h>
@@ -33,7 +34,9 @@
 namespace slamdunk {
 
 enum class TrackingStatus { Initialized, Tracked, Lost };
-const char* toString(TrackingStatus s);
+SLAMDUNK_ENUM_NAMES(TrackingStatus, {{TrackingStatus::Initialized, "initialized"},
+                                     {TrackingStatus::Tracked, "tracked"},
+                                     {TrackingStatus::Lost, "lost"}});
 
 /// Milliseconds spent in each stage for one frame.
 struct StageTimings {

@@ -1,11 +1,12 @@
 #pragma once
 // Camera Tracking's parameters: section [tracker] (paper Table 3 names in comments).
 
-#include <slamdunk/tracking/DepthOnlyRegistration.h>
+#include <slamdunk/core/EnumNames.h>
 #include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/LocalMap.h>
+#include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
-#include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/RansacAbsoluteOrientation.h>
 #include <slamdunk/tracking/RollingShutterEstimator.h>
 #include <slamdunk/tracking/SensorTiming.h>
@@ -17,8 +18,9 @@ namespace slamdunk {
 /// How graph edges weigh their matches: the paper's w = 1 - θ' alone, or also by the depth
 /// noise of the two points, as a scalar or as a ray-aligned (anisotropic) information matrix.
 enum class EdgeInformation { Paper, Isotropic, Anisotropic };
-EdgeInformation edgeInformationFromString(const std::string& name);
-std::string toString(EdgeInformation e);
+SLAMDUNK_ENUM_NAMES(EdgeInformation, {{EdgeInformation::Paper, "paper"},
+                                      {EdgeInformation::Isotropic, "isotropic"},
+                                      {EdgeInformation::Anisotropic, "anisotropic"}});
 
 struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// Local Mapping's window and pool: section [local_map] (SlamOptions loads it; this struct's
@@ -81,9 +83,48 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// Learn the colour camera's rolling-shutter readout (rolling_shutter_ms is the starting
   /// value), see RollingShutterEstimator.h.
   RollingShutterEstimatorOptions rollingShutterEstimation;
-  FeaturePoolOptions pool;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
+
+  /// Its INI keys (section [tracker]; localMap has its own section), listed once for loading
+  /// and saving.
+  template <class Self, class Keys>
+  static void forEachKey(Self& o, Keys& k) {
+    k("ratio_threshold", o.ratioThreshold);
+    k("loop_hop_threshold", o.loopHopThreshold);
+    k("loop_min_inliers", o.loopMinInliers);
+    k("edge_min_matches", o.edgeMinMatches);
+    k("min_features", o.minFeatures);
+    k("relocalize_after", o.relocalizeAfter);
+    k("relocalize_min_inliers", o.relocalizeMinInliers);
+    k("max_translation_jump", o.maxTranslationJump);
+    k("keep_keyframe_images", o.keepKeyframeImages);
+    k("weighted_refit", o.weightedRefit);
+    k("edge_information", o.edgeInformation);
+    k("keypoint_scale_sigma", o.keypointScaleSigma);
+    k("anisotropic_refinement", o.anisotropicRefinement);
+    k("depth_alignment_weight", o.depthAlignmentWeight);
+    k("depth_alignment_stride", o.depthAlignmentStride);
+    k("depth_alignment_max_distance", o.depthAlignmentMaxDistance);
+    k("depth_alignment_max_depth", o.depthAlignmentMaxDepth);
+    k("depth_alignment_central_normals", o.depthAlignmentCentralNormals);
+    k("depth_edges", o.depthEdges);
+    k("depth_edge_max_matches", o.depthEdgeMaxMatches);
+    k("depth_edge_weight", o.depthEdgeWeight);
+    k("depth_only_fallback", o.depthOnlyFallback);
+    k("estimate_keypoint_noise", o.noiseEstimation.enabled);
+    k("estimate_rolling_shutter", o.rollingShutterEstimation.enabled);
+    k("estimate_frame_velocity", o.estimateFrameVelocity);
+    k("velocity_prior_sigma_m", o.velocityPriorSigmaMetres);
+    k("velocity_prior_sigma_deg", o.velocityPriorSigmaDegrees);
+    k("velocity_prior_adaptive", o.adaptiveVelocityPrior);
+    k("velocity_prior_min_sigma_m", o.velocityPriorMinSigmaMetres);
+    k("velocity_prior_min_sigma_deg", o.velocityPriorMinSigmaDegrees);
+    DepthOnlyOptions::forEachKey(o.depthOnly, k);
+    SensorTimingOptions::forEachKey(o.sensorTiming, k);
+    RansacOptions::forEachKey(o.ransac, k);
+    KeyframePolicyOptions::forEachKey(o.keyframes, k);
+  }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;
