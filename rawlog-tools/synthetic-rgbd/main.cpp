@@ -36,8 +36,9 @@ int main(int argc, char** argv) {
         "3300 frames = 110 s, looking partly at the walls, ends where it started; a scale "
         "benchmark); hand-held, in the room: 'rotations' (quick sweeps about each axis up to "
         "~90 deg/s, 330 frames), 'shake' (a slow sweep under a shaking hand, 300 frames), "
-        "'scan' (a 2.5-minute room scan, two laps looking outward, 4500 frames)",
-        false, "loop", "sweep|loop|tour|rotations|shake|scan", cmd);
+        "'scan' (a 2.5-minute room scan, two laps looking outward, 4500 frames), 'dwell' (a "
+        "minute in one spot, turning about all axes up to ~90 deg/s, 1800 frames)",
+        false, "loop", "sweep|loop|tour|rotations|shake|scan|dwell", cmd);
     TCLAP::ValueArg<int> argFrames(
         "n", "frames",
         "number of frames spread over the whole path (0 = the trajectory's default; fewer frames "

@@ -78,6 +78,7 @@ if [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ]; then
 fi
 start_job convert 7scenes 7scenes/seq-1000f 7scenes.ini
 start_job synthetic_pair handheld_scan20s scan --first-frames 600 "${handheld[@]}"
+start_job synthetic_pair handheld_dwell20s dwell --first-frames 600 "${handheld[@]}"
 start_job synthetic_pair handheld_rotations rotations "${handheld[@]}"
 start_job synthetic_pair handheld_shake shake "${handheld[@]}"
 start_job synthetic_pair synthetic_loop loop --external-images --jpeg-quality 95

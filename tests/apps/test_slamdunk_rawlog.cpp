@@ -446,6 +446,24 @@ TEST_P(HandHeld, EveryFrameTrackedWithoutJumps) {
     EXPECT_NEAR(readout, 20, 2) << r.result.output;
 }
 
+// A hand-held camera that stays in one spot and turns (the first 20 s of "dwell", Kinect-like
+// depth): every frame tracked within 2 cm. How many keyframes its second half adds is printed:
+// a local map that follows the space covered adds next to none there (issue 45).
+TEST(SlamdunkRawlog, DwellingInOneSpotTracksEveryFrame) {
+  REQUIRE_RAWLOG(rawlog, "handheld_dwell20s_kinect");
+  const std::string dir = test::scratchDir("Slam_Dwell20s");
+  const std::string frameLog = dir + "/frames.csv";
+  const SlamRun r =
+      runSlam(rawlog, dir,
+              configWith(dir, "[tracker]\nrolling_shutter_ms = 20\ndepth_time_offset_ms = 5\n") +
+                  " --frame-log " + q(frameLog));
+  expectEveryFrameTracked(r, 600, 0.02);
+  const auto keyframes = test::csvColumn(frameLog, "keyframes");
+  ASSERT_EQ(keyframes.size(), 600u);
+  std::printf("dwell, first 20 s: %s keyframes after 10 s, %s after 20 s, ATE %.4f m\n",
+              keyframes[299].c_str(), keyframes[599].c_str(), r.value("ate_rmse_m"));
+}
+
 /// The default INI with the depth camera 5 ms after the colour one (the synthetic camera's).
 std::string defaultIniWithDepthOffset() {
   std::string ini = test::readFile(test::sourceDir() + "/config-ini/slamdunk-default.ini");

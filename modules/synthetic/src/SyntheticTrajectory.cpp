@@ -129,6 +129,30 @@ Pose shakePose(double t, double duration) {
   return cameraPose(base + shake, yaw, pitch, roll);
 }
 
+/// "dwell": standing in one spot near the room centre for a minute, turning the camera about all
+/// axes as someone looking around a room does, never walking away. The view ranges over about
+/// 120 degrees of yaw, 30 of pitch and 40 of roll; slow swings (periods of 7-12 s) carry it
+/// through that range, quicker ones (1.7-3.1 s) take it to about 90 deg/s, and a shaking hand
+/// adds a degree and a few mm at 3-8 Hz. The first slow swing (12 s) shows the whole range; after
+/// it the camera keeps returning to views it has shown, from the same place, so a map that follows
+/// the space covered has next to nothing to add. t in seconds.
+Pose dwellPose(double t) {
+  auto wave = [t](double amplitude, double period, double phase) {
+    return amplitude * std::sin(2 * M_PI * t / period + phase);
+  };
+  auto wobble = [&](double phase) {
+    return wave(0.6, 1 / 3.3, phase) + wave(0.3, 1 / 6.1, 2 * phase) +
+           wave(0.2, 1 / 7.7, 3 * phase);
+  };
+  const double yaw = 15 + wave(45, 12, 0) + wave(8, 1.7, 0.7) + wave(5, 3.1, 2.1) + wobble(0.5);
+  const double pitch = 12 + wave(10, 9, 1.0) + wave(4, 2.3, 0.3) + wobble(1.5);
+  const double roll = wave(15, 7, 2.0) + wave(5, 1.9, 1.1) + wobble(2.5);
+  const Eigen::Vector3d sway(wave(0.03, 13, 0) + wave(0.004, 1 / 3.1, 0),
+                             wave(0.02, 17, 1) + wave(0.003, 1 / 4.9, 1),
+                             wave(0.03, 11, 2) + wave(0.003, 1 / 5.9, 2));
+  return cameraPose(Eigen::Vector3d(0, 0, -0.3) + sway, yaw, pitch, roll);
+}
+
 /// "scan": scanning the room by hand for 2.5 minutes. Two laps of an oval around the room centre,
 /// looking outward at the walls, then across the room; the view swings left and right and up
 /// and down as a person scanning would, and every place is seen again on the second lap.
@@ -190,7 +214,7 @@ class TourShape {
 }  // namespace
 
 std::vector<std::string> SyntheticTrajectory::names() {
-  return {"sweep", "loop", "tour", "rotations", "shake", "scan"};
+  return {"sweep", "loop", "tour", "rotations", "shake", "scan", "dwell"};
 }
 
 bool SyntheticTrajectory::isKnown(const std::string& name) {
@@ -204,8 +228,9 @@ int SyntheticTrajectory::defaultFrames(const std::string& name) {
   if (name == "loop") return 400;
   if (name == "tour") return 3300;  // 55 m at 0.5 m/s on average
   if (name == "rotations") return static_cast<int>(RotationSweeps::kDuration * kFrameRate);
-  if (name == "shake") return 300;  // 10 s
-  if (name == "scan") return 4500;  // 2.5 minutes
+  if (name == "shake") return 300;   // 10 s
+  if (name == "scan") return 4500;   // 2.5 minutes
+  if (name == "dwell") return 1800;  // 1 minute
   std::string known;
   for (const auto& n : names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown synthetic trajectory '" + name + "' (known: " + known + ")");
@@ -228,6 +253,7 @@ SyntheticTrajectory::PoseAtFrame SyntheticTrajectory::shape(const std::string& n
   if (name == "rotations") return [](double frame) { return RotationSweeps()(frame / kFrameRate); };
   if (name == "shake")
     return [seconds](double frame) { return shakePose(frame / kFrameRate, seconds); };
+  if (name == "dwell") return [](double frame) { return dwellPose(frame / kFrameRate); };
   std::function<Pose(double)> shape = sweepPose;
   if (name == "loop") shape = loopPose;
   if (name == "tour") shape = TourShape();

@@ -232,8 +232,11 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
   // Paper Sec. 4.4: a frame matching keyframes far apart in the graph becomes a keyframe
   // linked to all of them, whether or not the overlap alone would spawn one. Any new keyframe
   // whose edges join keyframes that far apart closes a metric loop (counted as such).
-  const bool spawn =
-      maySpawn && (policy_.shouldSpawn(r.overlap) || closesMetricLoop(r.matchedKeyframes));
+  bool lowOverlap = policy_.shouldSpawn(r.overlap);
+  if (maySpawn && lowOverlap && !r.depthOnly && policy_.options().coveredView > 0)
+    lowOverlap = coverage_.coveredShare(features.points, registration.pose, *graph_, linkable) <
+                 policy_.options().coveredView;
+  const bool spawn = maySpawn && (lowOverlap || closesMetricLoop(r.matchedKeyframes));
   r.loopClosure = spawn && closesMetricLoop(linkable);
 
   const Pose& pose = registration.pose;

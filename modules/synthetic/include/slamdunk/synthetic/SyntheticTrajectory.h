@@ -39,6 +39,9 @@ class SyntheticTrajectory {
   ///   3-8 Hz); 10 s.
   /// "scan": a 2.5-minute room scan, two laps of an oval around the centre looking outward with
   ///   +-35 deg swings (every place is seen again on the second lap); stretched like "loop".
+  /// "dwell": a minute in one spot near the room centre, turning about all axes (about 120 deg
+  ///   of yaw, 30 of pitch, 40 of roll; slow swings and quick turns up to ~90 deg/s) under a
+  ///   shaking hand: after its first 12 s the views keep returning to what it has shown.
   /// All but "tour" in the "room" scene.
   /// "tour": once round the "office" scene's ring of four rooms and corridors (3300 frames,
   ///   110 s, 55 m): walking pace 0.45-0.55 m/s, 2 m arcs through each room, a few cm of

@@ -8,8 +8,8 @@
 #include <slamdunk/core/DepthNoiseModel.h>
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/graph/KeyframeGraph.h>
-#include <slamdunk/tracking/DenseDepthTerm.h>
 #include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/tracking/DenseDepthTerm.h>
 #include <slamdunk/tracking/InlierSample.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/SensorTiming.h>

@@ -19,6 +19,10 @@ struct KeyframePolicyOptions {
   /// A cell is textured when the frame has at least this many features in it (and more than
   /// F). 0: more than F, the paper's reading.
   int texturedCellFeatures = 0;
+  /// A frame the overlap would make a keyframe makes none when at least this share of its
+  /// points is already seen, from nearly the same place, by a keyframe it matched (see
+  /// ViewCoverage). 0: off, the paper's rule.
+  double coveredView = 0;
 
   /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
   template <class Self, class Keys>
@@ -29,6 +33,7 @@ struct KeyframePolicyOptions {
     k("keyframe_overlap", o.minOverlap);
     k("only_textured_cells", o.onlyTexturedCells);
     k("textured_cell_features", o.texturedCellFeatures);
+    k("keyframe_covered_view", o.coveredView);
   }
 };
 

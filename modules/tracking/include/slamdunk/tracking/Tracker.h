@@ -22,6 +22,7 @@
 #include <slamdunk/tracking/KeypointNoiseEstimator.h>
 #include <slamdunk/tracking/PoseRefinement.h>
 #include <slamdunk/tracking/TrackerOptions.h>
+#include <slamdunk/tracking/ViewCoverage.h>
 
 #include <opencv2/core/types.hpp>
 
@@ -132,6 +133,7 @@ class Tracker {
   KeypointNoiseEstimator noiseEstimator_;
   FeatureExtractor extractor_;
   KeyframePolicy policy_;
+  ViewCoverage coverage_;
   std::shared_ptr<KeyframeGraph> graph_;
   LocalMap localMap_;
   DenseDepthTerm dense_;
