@@ -93,3 +93,29 @@ TEST(FeaturePool, SmallPartsAreSearchedExactly) {
   big.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
   EXPECT_FALSE(big.parts().front()->bruteForce());
 }
+
+// Over its budget, a window's part keeps the features its keyframes saw from directions nearest
+// the window centre's: there their descriptors match the camera's best.
+TEST(FeaturePool, ABudgetKeepsTheFeaturesSeenFromNearestTheCentre) {
+  const cv::Mat d = randomDescriptors(50, 5);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d), Pose::Identity());
+  // One metre to the side, turned to look at about the same place: its rays are 25-30 degrees
+  // off the centre's.
+  Pose side = Pose::Identity();
+  side.linear() =
+      Eigen::AngleAxisd(-26.6 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  side.translation() = Eigen::Vector3d(1.0, 0, 0);
+  graph.addKeyframe(makeKeyframe(1, d), side);
+
+  FeaturePool unlimited;
+  unlimited.build(graph, {0, 1}, Pose::Identity(), CameraIntrinsics());
+  EXPECT_EQ(unlimited.size(), 100u);
+
+  FeaturePoolOptions options;
+  options.budget = 50;
+  FeaturePool budgeted(options);
+  budgeted.build(graph, {1, 0}, Pose::Identity(), CameraIntrinsics());
+  ASSERT_EQ(budgeted.size(), 50u);
+  for (size_t i = 0; i < budgeted.size(); ++i) EXPECT_EQ(budgeted.feature(i).keyframe, 0u) << i;
+}

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <numeric>
 
 namespace slamdunk {
 
@@ -85,6 +87,10 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
     }
   }
   if (features_.empty()) return;
+  if (snapshot.frustum && options.budget > 0 &&
+      features_.size() > static_cast<size_t>(options.budget))
+    keepBestSeen(snapshot.frustum->first.translation(), static_cast<size_t>(options.budget), rowsF,
+                 rowsB);
   binary_ = type == CV_8U;
   descriptors_.create(static_cast<int>(features_.size()), cols, binary_ ? CV_8U : CV_32F);
   const size_t rowBytes = descriptors_.elemSize() * cols;
@@ -107,6 +113,39 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   else
     index_ = std::make_unique<cv::flann::Index>(descriptors_,
                                                 cv::flann::KDTreeIndexParams(options.kdTrees));
+}
+
+void PoolPart::keepBestSeen(const Eigen::Vector3d& centre, size_t budget,
+                            std::vector<const float*>& rowsF, std::vector<const uint8_t*>& rowsB) {
+  // Cosine between the keyframe's ray to the point and the centre's: 1 = the same direction.
+  std::map<KeyframeId, Eigen::Vector3d> keyframeCentres;
+  for (size_t k = 0; k < keyframes_.size(); ++k)
+    keyframeCentres[keyframes_[k]] = keyframePoses_[k].translation();
+  std::vector<double> alike(features_.size());
+  for (size_t i = 0; i < features_.size(); ++i) {
+    const PoolFeature& f = features_[i];
+    const Eigen::Vector3d fromKeyframe = f.pointWorld - keyframeCentres.at(f.keyframe);
+    const Eigen::Vector3d fromCentre = f.pointWorld - centre;
+    const double norms = fromKeyframe.norm() * fromCentre.norm();
+    alike[i] = norms > 0 ? fromKeyframe.dot(fromCentre) / norms : -1;
+  }
+  std::vector<size_t> order(features_.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return alike[a] > alike[b]; });
+  order.resize(budget);
+  std::sort(order.begin(), order.end());  // the kept ones in their first order
+  std::vector<PoolFeature> kept;
+  std::vector<const float*> keptF;
+  std::vector<const uint8_t*> keptB;
+  for (size_t i : order) {
+    kept.push_back(features_[i]);
+    if (!rowsF.empty()) keptF.push_back(rowsF[i]);
+    if (!rowsB.empty()) keptB.push_back(rowsB[i]);
+  }
+  features_ = std::move(kept);
+  rowsF = std::move(keptF);
+  rowsB = std::move(keptB);
 }
 
 PoolPart::~PoolPart() = default;

@@ -48,6 +48,9 @@ struct FeaturePoolOptions {
   double frustumFar = 8.0;     ///< metres
   double frustumMargin = 0.1;  ///< fraction of the image size added around the frustum
   uint32_t seed = 7;           ///< KD-tree randomisation: same seed, same index, same matches
+  /// A window's part holds at most this many features (0: no limit): those its keyframes saw
+  /// from the directions nearest the window centre's, where their descriptors match best.
+  int budget = 0;
 
   /// Its INI keys (in [local_map]), listed once for IniSectionReader and IniSectionWriter.
   template <class Self, class Keys>
@@ -62,6 +65,7 @@ struct FeaturePoolOptions {
     k("pool_frustum_far", o.frustumFar);
     k("pool_frustum_margin", o.frustumMargin);
     k("kdtree_seed", o.seed);
+    k("pool_budget", o.budget);
   }
 };
 
@@ -110,6 +114,10 @@ class PoolPart {
                  cv::Mat& distances) const;
 
  private:
+  /// Keeps the `budget` features seen from the directions nearest `centre`'s (with their
+  /// descriptor rows).
+  void keepBestSeen(const Eigen::Vector3d& centre, size_t budget, std::vector<const float*>& rowsF,
+                    std::vector<const uint8_t*>& rowsB);
   std::vector<PoolFeature> features_;
   std::vector<KeyframeId> keyframes_;
   std::vector<Pose> keyframePoses_;  ///< snapshot pose of each of keyframes_
