@@ -119,3 +119,18 @@ TEST(FeaturePool, ABudgetKeepsTheFeaturesSeenFromNearestTheCentre) {
   ASSERT_EQ(budgeted.size(), 50u);
   for (size_t i = 0; i < budgeted.size(); ++i) EXPECT_EQ(budgeted.feature(i).keyframe, 0u) << i;
 }
+
+// A keyframe may keep its float descriptors as half floats: the pool searches them as floats.
+TEST(FeaturePool, HalfFloatKeyframeDescriptorsAreSearchedAsFloats) {
+  const cv::Mat d = randomDescriptors(200, 6);
+  cv::Mat half;
+  d.convertTo(half, CV_16F);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, half), Pose::Identity());
+  FeaturePool pool;
+  pool.build(graph, {0}, Pose::Identity(), CameraIntrinsics());
+  ASSERT_EQ(pool.size(), 200u);
+  const auto matches = pool.match(d, 0.8);
+  EXPECT_GT(matches.size(), 190u);
+  for (const auto& m : matches) EXPECT_EQ(pool.feature(m.pool).index, m.query);
+}

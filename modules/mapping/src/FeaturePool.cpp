@@ -60,8 +60,7 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   const Pose worldToCenter =
       snapshot.frustum ? snapshot.frustum->first.inverse() : Pose::Identity();
   const bool filter = snapshot.frustum && options.frustumFilter;
-  std::vector<const float*> rowsF;
-  std::vector<const uint8_t*> rowsB;
+  std::vector<DescriptorRow> rows;
   int cols = 0, type = -1;
   for (size_t k = 0; k < snapshot.keyframes.size(); ++k) {
     const Keyframe& kf = *snapshot.keyframes[k];
@@ -80,23 +79,21 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
       const Eigen::Vector3d pw = T * points[i];
       if (filter && !insideFrustum(worldToCenter * pw, snapshot.frustum->second, options)) continue;
       features_.push_back({kf.id, static_cast<uint32_t>(i), points[i], pw});
-      if (type == CV_8U)
-        rowsB.push_back(fs.descriptors.ptr<uint8_t>(static_cast<int>(i)));
-      else
-        rowsF.push_back(fs.descriptors.ptr<float>(static_cast<int>(i)));
+      rows.push_back({fs.descriptors.ptr(static_cast<int>(i)), fs.descriptors.type()});
     }
   }
   if (features_.empty()) return;
   if (snapshot.frustum && options.budget > 0 &&
       features_.size() > static_cast<size_t>(options.budget))
-    keepBestSeen(snapshot.frustum->first.translation(), static_cast<size_t>(options.budget), rowsF,
-                 rowsB);
+    keepBestSeen(snapshot.frustum->first.translation(), static_cast<size_t>(options.budget), rows);
   binary_ = type == CV_8U;
   descriptors_.create(static_cast<int>(features_.size()), cols, binary_ ? CV_8U : CV_32F);
-  const size_t rowBytes = descriptors_.elemSize() * cols;
-  for (int r = 0; r < descriptors_.rows; ++r)
-    std::memcpy(descriptors_.ptr(r), binary_ ? static_cast<const void*>(rowsB[r]) : rowsF[r],
-                rowBytes);
+  for (int r = 0; r < descriptors_.rows; ++r) {
+    // Keyframes keep float descriptors as half floats (a map saved before holds floats): the
+    // search runs on floats.
+    const cv::Mat row(1, cols, rows[r].type, const_cast<uchar*>(rows[r].data));
+    row.convertTo(descriptors_.row(r), descriptors_.type());
+  }
   if (options.index == PoolIndexType::Exact ||
       features_.size() <= static_cast<size_t>(std::max(0, options.bruteForceBelow)))
     return;  // searched by brute force
@@ -116,7 +113,7 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
 }
 
 void PoolPart::keepBestSeen(const Eigen::Vector3d& centre, size_t budget,
-                            std::vector<const float*>& rowsF, std::vector<const uint8_t*>& rowsB) {
+                            std::vector<DescriptorRow>& rows) {
   // Cosine between the keyframe's ray to the point and the centre's: 1 = the same direction.
   std::map<KeyframeId, Eigen::Vector3d> keyframeCentres;
   for (size_t k = 0; k < keyframes_.size(); ++k)
@@ -136,16 +133,13 @@ void PoolPart::keepBestSeen(const Eigen::Vector3d& centre, size_t budget,
   order.resize(budget);
   std::sort(order.begin(), order.end());  // the kept ones in their first order
   std::vector<PoolFeature> kept;
-  std::vector<const float*> keptF;
-  std::vector<const uint8_t*> keptB;
+  std::vector<DescriptorRow> keptRows;
   for (size_t i : order) {
     kept.push_back(features_[i]);
-    if (!rowsF.empty()) keptF.push_back(rowsF[i]);
-    if (!rowsB.empty()) keptB.push_back(rowsB[i]);
+    keptRows.push_back(rows[i]);
   }
   features_ = std::move(kept);
-  rowsF = std::move(keptF);
-  rowsB = std::move(keptB);
+  rows = std::move(keptRows);
 }
 
 PoolPart::~PoolPart() = default;

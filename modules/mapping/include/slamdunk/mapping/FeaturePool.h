@@ -114,10 +114,14 @@ class PoolPart {
                  cv::Mat& distances) const;
 
  private:
+  /// A keyframe's descriptor of one feature, as the keyframe stores it.
+  struct DescriptorRow {
+    const uchar* data;
+    int type;
+  };
   /// Keeps the `budget` features seen from the directions nearest `centre`'s (with their
   /// descriptor rows).
-  void keepBestSeen(const Eigen::Vector3d& centre, size_t budget, std::vector<const float*>& rowsF,
-                    std::vector<const uint8_t*>& rowsB);
+  void keepBestSeen(const Eigen::Vector3d& centre, size_t budget, std::vector<DescriptorRow>& rows);
   std::vector<PoolFeature> features_;
   std::vector<KeyframeId> keyframes_;
   std::vector<Pose> keyframePoses_;  ///< snapshot pose of each of keyframes_
