@@ -46,7 +46,8 @@ for name in ${SEQUENCES:-7scenes dwell}; do
   for ((r = 1; r <= runs; r++)); do
     j=$work/local-map-$name-$r.json
     echo "run $r: keyframes $(field keyframes "$j"), optimizations $(field optimizations "$j")" \
-      "(median $(field ms_optimization_median "$j") ms), ATE $(field ate_rmse_m "$j") m," \
+      "(median $(field ms_optimization_median "$j") ms, $(field optimizer_share "$j") of the run)," \
+      "ATE $(field ate_rmse_m "$j") m," \
       "$(field fps "$j") frames/s, peak RSS $(field peak_rss_mib "$j") MiB," \
       "$(field map_kib_per_keyframe "$j") KiB per keyframe"
   done

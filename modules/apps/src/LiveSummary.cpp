@@ -48,6 +48,7 @@ void printJsonSummary(const LiveFigures& fig) {
          {"ms_tracking_p95", Stat::p95},
          {"ms_tracking_max", Stat::max}});
   addMs(j, f.stats.optimizationMs, {{"ms_optimization_median", Stat::median}});
+  j["optimizer_share"] = rounded(optimizerShare(f.stats.optimizationMs, c.activeSeconds), 3);
   j["interrupted"] = f.stopRequested;
   if (const std::optional<CheckpointFigures>& cp = f.checkpoints) {
     j["checkpoints"] = cp->written;
@@ -83,10 +84,11 @@ void printTextSummary(const LiveFigures& fig) {
               f.stats.trackedDepthOnly, c.lost);
   printTrackingProblems(f.stats, 17);
   std::printf(
-      "  keyframes:     %zu, %zu local optimizations (ms median %.1f), %zu loop "
-      "closures; map data %.1f KiB\n",
+      "  keyframes:     %zu, %zu local optimizations (ms median %.1f, busy %.0f %% of the "
+      "session, on their own thread), %zu loop closures; map data %.1f KiB\n",
       f.stats.keyframes, f.stats.optimizations, median(f.stats.optimizationMs),
-      f.stats.loopClosures, f.mapMemory.total() / 1024.0);
+      100 * optimizerShare(f.stats.optimizationMs, c.activeSeconds), f.stats.loopClosures,
+      f.mapMemory.total() / 1024.0);
   std::printf(
       "  speed:         %.1f frames/s received, %.1f processed over %.2f s; tracking "
       "%.1f ms/frame (median), %.1f (p95), %.1f (max)\n",

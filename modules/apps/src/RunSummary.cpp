@@ -20,7 +20,6 @@ long peakResidentKiB() {
 
 namespace {
 
-double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
 double perKeyframeKiB(const GraphMemory& m, size_t bytes) {
   return m.keyframes ? bytes / 1024.0 / m.keyframes : 0.0;
 }
@@ -89,6 +88,7 @@ void printJsonSummary(const RunFigures& f) {
   addMs(j, ms.poolWait, {{"ms_pool_wait_max", Stat::max}});
   addMs(j, s.optimizationMs,
         {{"ms_optimization_median", Stat::median}, {"ms_optimization_max", Stat::max}});
+  j["optimizer_share"] = rounded(optimizerShare(s.optimizationMs, f.wallSeconds), 3);
   j["optimization_max_translation_m"] = rounded(s.maxOptimizationTranslation, 6);
   j["optimization_max_rotation_deg"] = rounded(s.maxOptimizationRotationDeg, 4);
   j["first_tracked_frame"] = f.firstTrackedFrame;
@@ -125,10 +125,11 @@ void printTextSummary(const RunFigures& f) {
       "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",
       s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);
   std::printf(
-      "  optimizations:   %zu, ms median %.1f max %.1f; largest pose change %.4f m "
-      "%.3f deg\n",
+      "  optimizations:   %zu, ms median %.1f max %.1f, %.0f %% of the run; largest pose "
+      "change %.4f m %.3f deg\n",
       s.optimizations, median(s.optimizationMs), maxOf(s.optimizationMs),
-      s.maxOptimizationTranslation, s.maxOptimizationRotationDeg);
+      100 * optimizerShare(s.optimizationMs, f.wallSeconds), s.maxOptimizationTranslation,
+      s.maxOptimizationRotationDeg);
   std::printf("  ms per frame     median   mean\n");
   const auto row = [](const char* stage, const std::vector<double>& v, const char* more = "") {
     std::printf("    %-14s %6.2f %6.2f%s\n", stage, median(v), mean(v), more);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <string>
 
 namespace slamdunk::apps {
@@ -22,6 +23,10 @@ double mean(const std::vector<double>& v) { return eval::ErrorStatistics::comput
 double maxOf(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).max; }
 double p95(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p95; }
 double p99(const std::vector<double>& v) { return eval::ErrorStatistics::compute(v).p99; }
+double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+double optimizerShare(const std::vector<double>& optimizationMs, double seconds) {
+  return seconds > 0 ? sum(optimizationMs) / (1000 * seconds) : 0.0;
+}
 
 double rounded(double x, int decimals) {
   const double scale = std::pow(10.0, decimals);

@@ -21,6 +21,10 @@ double mean(const std::vector<double>& v);
 double maxOf(const std::vector<double>& v);
 double p95(const std::vector<double>& v);
 double p99(const std::vector<double>& v);
+double sum(const std::vector<double>& v);
+/// The share of `seconds` the local optimizations (`optimizationMs`) took: inline (offline) they
+/// hold tracking up for it; on their own thread (live) it is one core's share.
+double optimizerShare(const std::vector<double>& optimizationMs, double seconds);
 
 /// `x` to `decimals` places: the precision each figure is meaningful to, as JSON prints it.
 double rounded(double x, int decimals);
