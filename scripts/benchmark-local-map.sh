@@ -9,12 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
-data=${SLAMDUNK_DATA_DIR:-$(pwd)/../shared/data}
-bin=build/bin
-work=build/benchmark
-mkdir -p "$work"
-source scripts/lib/rawlog.sh
-source scripts/lib/summary.sh
+source scripts/lib/benchmark.sh
 
 prepare_recording "$bin" "$data/7scenes/seq-1000f" config-ini/cameras/7scenes.ini \
   "$work/7scenes.rawlog" || true
