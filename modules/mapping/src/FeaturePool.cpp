@@ -88,9 +88,13 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
     keepBestSeen(snapshot.frustum->first.translation(), static_cast<size_t>(options.budget), rows);
   binary_ = type == CV_8U;
   descriptors_.create(static_cast<int>(features_.size()), cols, binary_ ? CV_8U : CV_32F);
+  const size_t rowBytes = descriptors_.elemSize() * cols;
   for (int r = 0; r < descriptors_.rows; ++r) {
-    // Keyframes keep float descriptors as half floats (a map saved before holds floats): the
-    // search runs on floats.
+    if (rows[r].type == descriptors_.type()) {
+      std::memcpy(descriptors_.ptr(r), rows[r].data, rowBytes);
+      continue;
+    }
+    // A keyframe may hold its float descriptors as half floats: the search runs on floats.
     const cv::Mat row(1, cols, rows[r].type, const_cast<uchar*>(rows[r].data));
     row.convertTo(descriptors_.row(r), descriptors_.type());
   }
