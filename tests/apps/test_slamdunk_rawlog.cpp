@@ -467,6 +467,26 @@ TEST(SlamdunkRawlog, DwellingInOneSpotTracksEveryFrame) {
               keyframes[299].c_str(), keyframes[599].c_str(), r.value("ate_rmse_m"));
 }
 
+// Keyframes culled as redundant (issue 45) leave the map, not the trajectory: every frame keeps
+// its pose through the culled keyframe's successor, the keyframe trajectory lists the map's
+// keyframes, and two runs are the same.
+TEST(SlamdunkRawlog, CulledKeyframesLeaveTheTrajectoryWholeAndRunsRepeatable) {
+  REQUIRE_RAWLOG(rawlog, "fr1_xyz_400f");
+  const std::string ini = "[tracker]\nkeyframe_cull_share = 0.6\nkeyframe_cull_observers = 2\n";
+  std::vector<SlamRun> runs;
+  for (const std::string name : {"Slam_Culling_a", "Slam_Culling_b"}) {
+    const std::string dir = test::scratchDir(name);
+    runs.push_back(runSlam(rawlog, dir, configWith(dir, ini)));
+  }
+  const SlamRun& r = runs[0];
+  expectEveryFrameTracked(r, 394, 0.0095);  // 0.0073 m with every keyframe kept
+  EXPECT_GE(r.value("keyframes_culled"), 1) << r.result.output;
+  EXPECT_EQ(readTumTrajectory(r.trajectory).size(), 394u);
+  const auto keyframes = readTumTrajectory(keyframeTrajectoryPathFor(r.trajectory));
+  EXPECT_EQ(double(keyframes.size()), r.value("keyframes")) << r.result.output;
+  EXPECT_EQ(test::readFile(r.trajectory), test::readFile(runs[1].trajectory));
+}
+
 /// The default INI with the depth camera 5 ms after the colour one (the synthetic camera's).
 std::string defaultIniWithDepthOffset() {
   std::string ini = test::readFile(test::sourceDir() + "/config-ini/slamdunk-default.ini");

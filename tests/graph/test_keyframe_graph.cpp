@@ -75,3 +75,53 @@ TEST(KeyframeGraph, MatchesAreStoredFromTheSmallerIdsSide) {
   EXPECT_EQ(edges[0].matches[0].pointJ, Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(graph.neighbours(3), std::vector<KeyframeId>{7});
 }
+
+namespace {
+Pose translatedBy(double x) {
+  Pose p = Pose::Identity();
+  p.translation() = Eigen::Vector3d(x, 0, 0);
+  return p;
+}
+}  // namespace
+
+// A culled keyframe leaves with its edges; the frames that referred to it follow its successor
+// at the relative pose the two had when it was culled, through later optimizations.
+TEST(KeyframeGraph, CulledKeyframeFollowsItsSuccessor) {
+  KeyframeGraph graph;
+  for (KeyframeId id : {0u, 1u, 2u}) graph.addKeyframe(keyframe(id, 4, false), translatedBy(id));
+  graph.addMatches(0, 1, matches(3));
+  graph.addMatches(1, 2, matches(2));
+  KeyframeEdge rewired;
+  rewired.i = 0;
+  rewired.j = 2;
+  rewired.matches = matches(1);
+
+  graph.cullKeyframe(1, 2, {rewired});
+  EXPECT_FALSE(graph.contains(1));
+  EXPECT_EQ(graph.keyframe(1), nullptr);
+  EXPECT_EQ(graph.keyframeCount(), 2u);
+  EXPECT_EQ(graph.culledCount(), 1u);
+  ASSERT_EQ(graph.edgeIds(), (std::vector<std::pair<KeyframeId, KeyframeId>>{{0, 2}}));
+  EXPECT_EQ(graph.neighbours(0), std::vector<KeyframeId>{2});
+  EXPECT_TRUE(graph.rings(1, 3).empty());
+  EXPECT_EQ(graph.hopDistance(0, 2, 1), 1);
+
+  // The successor moves: the culled keyframe's pose moves with it, 1 m behind.
+  Pose moved = translatedBy(5);
+  moved.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  graph.setPoses({{2, moved}, {1, translatedBy(42)}});  // keyframe 1 is gone: left out
+  const Pose expected = moved * translatedBy(-1);
+  EXPECT_TRUE(graph.pose(1).isApprox(expected, 1e-12));
+  ASSERT_TRUE(graph.findPose(1));
+  EXPECT_TRUE(graph.findPose(1)->isApprox(expected, 1e-12));
+  EXPECT_FALSE(graph.findPose(7));
+  EXPECT_THROW(graph.pose(7), std::out_of_range);
+  EXPECT_EQ(graph.poses().count(1), 0u);
+
+  // Culled in turn, the successor hands its followers on; snapshots keep the chain.
+  graph.cullKeyframe(2, 0, {});
+  const auto snapshot = graph.snapshot();
+  EXPECT_TRUE(snapshot->pose(1).isApprox(expected, 1e-12));
+  EXPECT_EQ(snapshot->culledCount(), 2u);
+  EXPECT_THROW(graph.cullKeyframe(2, 0, {}), std::logic_error);
+}

@@ -184,6 +184,33 @@ TEST(SlamdunkLive, DoubleSpeedReplayCompletesWithAValidTrajectory) {
 #endif
 }
 
+// Keyframes culled on the tracking thread while the optimizer's thread works on the graph and
+// checkpoints write it: the optimizer leaves culled keyframes out, every tracked frame keeps a
+// pose, the final map loads.
+TEST(SlamdunkLive, CullingBesideTheOptimizerThreadAndCheckpoints) {
+  REQUIRE_RAWLOG(rawlog, "fr1_xyz_400f");
+  const std::string dir = test::scratchDir("Live_Culling");
+  const std::string ini = replayIni(dir, rawlog,
+                                    "checkpoint_every_keyframes = 2\n"
+                                    "[pipeline.tracker]\nkeyframe_cull_share = 0.6\n"
+                                    "keyframe_cull_observers = 2\n");
+  const LiveRun live =
+      runLive(ini, dir,
+              "--speed 2 --map " + q(dir + "/run.map") + " --gt " + q(test::groundTruthOf(rawlog)));
+  ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
+  EXPECT_EQ(readTumTrajectory(live.trajectory).size(), live.value("tracked"));
+  EXPECT_EQ(live.value("lost"), 0) << live.result.output;
+#ifndef SLAMDUNK_SANITIZED  // sanitized code drops most frames: few keyframes to cull
+  EXPECT_GE(live.value("keyframes_culled"), 1) << live.result.output;
+  EXPECT_LE(live.value("ate_rmse_m"), 0.012) << live.result.output;
+#endif
+  const std::string reload = test::scratchDir("Live_Culling_reload");
+  const LiveRun again = runLive(replayIni(reload, rawlog), reload,
+                                "--speed 4 --max-frames 30 --load-map " + q(dir + "/run.map"));
+  EXPECT_EQ(again.result.exitCode, 0) << again.result.output;
+  EXPECT_EQ(again.value("lost"), 0) << again.result.output;
+}
+
 // Soak tests replay a recording again and again ([REPLAY] loops): each lap's timestamps follow
 // the last lap's by one frame interval, so time keeps increasing as from a camera, and the
 // trajectory stays a valid TUM file.

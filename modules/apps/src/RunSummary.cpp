@@ -119,7 +119,9 @@ void printTextSummary(const RunFigures& f) {
                 s.trackedDepthOnly);
   printTrackingProblems(s, 19);
   std::printf("  first tracked:   frame %ld\n", f.firstTrackedFrame);
-  std::printf("  keyframes:       %zu, graph edges %zu\n", s.keyframes, f.edges);
+  std::printf("  keyframes:       %zu, graph edges %zu", s.keyframes, f.edges);
+  if (s.keyframesCulled > 0) std::printf(" (%zu more culled as redundant)", s.keyframesCulled);
+  std::printf("\n");
   std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
   std::printf(
       "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",

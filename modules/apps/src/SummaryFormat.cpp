@@ -45,6 +45,7 @@ void addMs(Json& json, const std::vector<double>& ms,
 void addSlamCounts(Json& json, const SlamStatistics& s) {
   json["tracked_depth_only"] = s.trackedDepthOnly;
   json["keyframes"] = s.keyframes;
+  json["keyframes_culled"] = s.keyframesCulled;
   json["optimizations"] = s.optimizations;
   json["loop_closures"] = s.loopClosures;
   json["relocalizations"] = s.relocalizations;

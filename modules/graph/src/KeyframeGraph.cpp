@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <stdexcept>
+#include <string>
 
 namespace slamdunk {
 
@@ -17,8 +18,13 @@ void KeyframeGraph::addKeyframe(KeyframePtr keyframe, const Pose& T_world_keyfra
 
 void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
                                const std::vector<PointMatch>& matchesAB) {
-  if (a == b || matchesAB.empty()) return;
   std::unique_lock lock(mutex_);
+  addMatchesLocked(a, b, matchesAB);
+}
+
+void KeyframeGraph::addMatchesLocked(KeyframeId a, KeyframeId b,
+                                     const std::vector<PointMatch>& matchesAB) {
+  if (a == b || matchesAB.empty()) return;
   if (!keyframes_.count(a) || !keyframes_.count(b))
     throw std::logic_error("edge between unknown keyframes");
   const bool swap = a > b;
@@ -89,12 +95,50 @@ bool KeyframeGraph::contains(KeyframeId id) const {
 
 KeyframePtr KeyframeGraph::keyframe(KeyframeId id) const {
   std::shared_lock lock(mutex_);
-  return keyframes_.at(id);
+  const auto it = keyframes_.find(id);
+  return it == keyframes_.end() ? nullptr : it->second;
+}
+
+void KeyframeGraph::cullKeyframe(KeyframeId id, KeyframeId successor,
+                                 const std::vector<KeyframeEdge>& rewired) {
+  std::unique_lock lock(mutex_);
+  if (!keyframes_.count(id) || !keyframes_.count(successor) || id == successor)
+    throw std::logic_error("cullKeyframe(): unknown keyframe or successor");
+  culled_[id] = {successor, poses_.at(successor).inverse() * poses_.at(id)};
+  for (KeyframeId n : adjacency_.at(id)) {
+    edges_.erase(id < n ? EdgeKey{id, n} : EdgeKey{n, id});
+    auto& back = adjacency_.at(n);
+    back.erase(std::remove(back.begin(), back.end(), id), back.end());
+  }
+  adjacency_.erase(id);
+  keyframes_.erase(id);
+  poses_.erase(id);
+  refined_.erase(id);
+  for (const KeyframeEdge& e : rewired) addMatchesLocked(e.i, e.j, e.matches);
+}
+
+size_t KeyframeGraph::culledCount() const {
+  std::shared_lock lock(mutex_);
+  return culled_.size();
 }
 
 Pose KeyframeGraph::pose(KeyframeId id) const {
   std::shared_lock lock(mutex_);
-  return poses_.at(id);
+  if (auto p = poseLocked(id)) return *p;
+  throw std::out_of_range("pose(): unknown keyframe " + std::to_string(id));
+}
+
+std::optional<Pose> KeyframeGraph::findPose(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  return poseLocked(id);
+}
+
+std::optional<Pose> KeyframeGraph::poseLocked(KeyframeId id) const {
+  if (const auto it = poses_.find(id); it != poses_.end()) return it->second;
+  const auto c = culled_.find(id);
+  if (c == culled_.end()) return std::nullopt;
+  const auto successor = poseLocked(c->second.successor);
+  return successor ? std::optional<Pose>(*successor * c->second.successorToCulled) : std::nullopt;
 }
 
 std::vector<KeyframeId> KeyframeGraph::ids() const {
@@ -114,6 +158,7 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
   // The new point vectors are built before taking the lock: readers wait only for the swap.
   std::map<KeyframeId, RefinedPoints> replacements;
   for (const auto& [id, changes] : refined) {
+    if (!contains(id)) continue;
     const KeyframePtr kf = keyframe(id);
     const RefinedPoints old = refinedPoints(id);
     auto points = std::make_shared<std::vector<Eigen::Vector3d>>(old ? *old : kf->features.points);
@@ -121,8 +166,10 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
     replacements[id] = std::move(points);
   }
   std::unique_lock lock(mutex_);
-  for (const auto& [id, p] : poses) poses_.at(id) = p;
-  for (auto& [id, points] : replacements) refined_[id] = std::move(points);
+  for (const auto& [id, p] : poses)
+    if (const auto it = poses_.find(id); it != poses_.end()) it->second = p;
+  for (auto& [id, points] : replacements)
+    if (keyframes_.count(id)) refined_[id] = std::move(points);
 }
 
 RefinedPoints KeyframeGraph::refinedPoints(KeyframeId id) const {
@@ -136,6 +183,17 @@ std::vector<KeyframeId> KeyframeGraph::neighbours(KeyframeId id) const {
   auto n = adjacency_.at(id);
   std::sort(n.begin(), n.end());
   return n;
+}
+
+std::vector<KeyframeEdge> KeyframeGraph::edgesOf(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  std::vector<KeyframeEdge> out;
+  for (KeyframeId n : adjacency_.at(id))
+    out.push_back(edges_.at(id < n ? EdgeKey{id, n} : EdgeKey{n, id}));
+  std::sort(out.begin(), out.end(), [](const KeyframeEdge& a, const KeyframeEdge& b) {
+    return std::make_pair(a.i, a.j) < std::make_pair(b.i, b.j);
+  });
+  return out;
 }
 
 std::map<KeyframeId, int> KeyframeGraph::ringsLocked(KeyframeId root, int maxRing) const {
@@ -156,7 +214,7 @@ std::map<KeyframeId, int> KeyframeGraph::ringsLocked(KeyframeId root, int maxRin
 
 std::map<KeyframeId, int> KeyframeGraph::rings(KeyframeId root, int maxRing) const {
   std::shared_lock lock(mutex_);
-  if (!keyframes_.count(root)) throw std::logic_error("rings(): unknown root keyframe");
+  if (!keyframes_.count(root)) return {};
   return ringsLocked(root, maxRing);
 }
 
@@ -199,6 +257,8 @@ std::shared_ptr<KeyframeGraph> KeyframeGraph::snapshot() const {
   copy->poses_ = poses_;
   copy->edges_ = edges_;
   copy->adjacency_ = adjacency_;
+  copy->refined_ = refined_;
+  copy->culled_ = culled_;
   return copy;
 }
 

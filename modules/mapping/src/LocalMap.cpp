@@ -202,7 +202,16 @@ PoolPreparationStats LocalMap::statistics() const {
 }
 
 void LocalMap::syncQuadTree() {
-  for (const auto& [id, pose] : graph_->poses()) {
+  const auto poses = graph_->poses();
+  for (auto it = indexedPositions_.begin(); it != indexedPositions_.end();) {
+    if (poses.count(it->first)) {
+      ++it;
+      continue;
+    }
+    quadTree_.remove(it->second.x(), it->second.y(), it->first);  // culled
+    it = indexedPositions_.erase(it);
+  }
+  for (const auto& [id, pose] : poses) {
     const Eigen::Vector2d g = groundPosition(pose);
     auto it = indexedPositions_.find(id);
     if (it != indexedPositions_.end()) {

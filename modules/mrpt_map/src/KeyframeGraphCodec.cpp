@@ -318,9 +318,10 @@ std::pair<std::shared_ptr<Keyframe>, Pose> readKeyframe(mrpt::serialization::CAr
 
 }  // namespace
 
-void writeKeyframeGraph(mrpt::serialization::CArchive& out, const KeyframeGraph& graph) {
-  // Poses first, then only those keyframes and the edges between them: a snapshot that stays
-  // consistent even if the SLAM system adds keyframes meanwhile.
+void writeKeyframeGraph(mrpt::serialization::CArchive& out, const KeyframeGraph& live) {
+  // From a snapshot: consistent even if the SLAM system adds or culls keyframes meanwhile.
+  const std::shared_ptr<const KeyframeGraph> snapshot = live.snapshot();
+  const KeyframeGraph& graph = *snapshot;
   const auto poses = graph.poses();
   out << uint32_t(poses.size());
   for (const auto& [id, pose] : poses) writeKeyframe(out, *graph.keyframe(id), pose);

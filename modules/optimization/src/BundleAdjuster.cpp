@@ -1,8 +1,8 @@
 #include "BundleAdjuster.h"
 
+#include <slamdunk/graph/LandmarkTracks.h>
 #include "EdgeMomentResidual.h"
 #include "LandmarkResidual.h"
-#include "LandmarkTracks.h"
 #include "PointMatchResidual.h"
 #include "PoseParameters.h"
 #include "WeightedRobustLoss.h"

@@ -67,11 +67,12 @@ LocalOptimizationReport LocalOptimizer::optimize(KeyframeGraph& graph, KeyframeI
   const auto t0 = SteadyClock::now();
   LocalOptimizationReport r;
   r.root = root;
-  if (!graph.contains(root)) {
+  LocalProblem p;
+  if (graph.contains(root)) p = snapshotRings(graph, root, options_.rings);
+  if (!p.poses.count(root)) {  // unknown, or culled meanwhile (live)
     r.status = LocalOptimizationReport::Status::Failed;
     r.message = "unknown root keyframe";
   } else {
-    LocalProblem p = snapshotRings(graph, root, options_.rings);
     cleanMatches(p, options_.minWeight);
     fixGauge(p, &root);
     r = solveAndWriteBack(graph, p, options_, r);

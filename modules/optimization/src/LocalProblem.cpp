@@ -13,9 +13,16 @@ size_t LocalProblem::matchCount() const {
 
 namespace {
 void snapshotFocalLengths(const KeyframeGraph& graph, LocalProblem& p) {
-  for (const auto& [id, pose] : p.poses)
-    if (const KeyframePtr kf = graph.keyframe(id))
-      p.focalLengths[id] = Eigen::Vector2d(kf->intrinsics.fx, kf->intrinsics.fy);
+  for (auto it = p.poses.begin(); it != p.poses.end();) {
+    const KeyframePtr kf = graph.keyframe(it->first);
+    if (!kf) {  // culled meanwhile (live): its edges go too (cleanMatches)
+      p.fixed.erase(it->first);
+      it = p.poses.erase(it);
+      continue;
+    }
+    p.focalLengths[it->first] = Eigen::Vector2d(kf->intrinsics.fx, kf->intrinsics.fy);
+    ++it;
+  }
 }
 }  // namespace
 

@@ -22,6 +22,7 @@ FrameCsvLog::~FrameCsvLog() { stopWriter(); }
 
 void FrameCsvLog::add(const TrackingResult& r, const std::optional<Grab>& grab) {
   if (r.newKeyframe) ++keyframes_;
+  keyframes_ -= r.culledKeyframes.size();
   const Eigen::Vector3d t = r.pose.translation();
   char buf[512];
   std::snprintf(buf, sizeof buf,

@@ -103,6 +103,8 @@ TrackingResult SlamSystem::track(const RgbdFrame& frame) {
       if (r.relocalized) ++stats_.relocalizations;
     }
     if (r.newKeyframe) ++stats_.keyframes;
+    stats_.keyframes -= r.culledKeyframes.size();
+    stats_.keyframesCulled += r.culledKeyframes.size();
     if (r.loopClosure) ++stats_.loopClosures;
   }
   // The same precisions as the tracker's, which learns them (KeypointNoiseEstimator).
@@ -119,13 +121,16 @@ void SlamSystem::finish() {
 
 size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,
                           const std::function<void(double, const Pose&)>& visit) {
-  const auto poses = graph.poses();
+  const auto poses = graph.poses();  // one reading: the trajectory is of one map
   size_t tracked = 0;
   records.forEach([&](const FrameRecord& f) {
     if (f.status == TrackingStatus::Lost) return;
     const auto it = poses.find(f.reference);
-    if (it == poses.end()) return;
-    visit(f.timestamp, it->second * f.poseInReference);
+    // A reference culled since the frame was tracked: its successor stands in for it.
+    const std::optional<Pose> reference =
+        it != poses.end() ? std::optional<Pose>(it->second) : graph.findPose(f.reference);
+    if (!reference) return;
+    visit(f.timestamp, *reference * f.poseInReference);
     ++tracked;
   });
   return tracked;
@@ -142,7 +147,8 @@ Trajectory SlamSystem::trajectory() const {
 Trajectory SlamSystem::keyframeTrajectory() const {
   Trajectory out;
   for (const auto& [id, pose] : graph_->poses())
-    out.push_back({graph_->keyframe(id)->timestamp, pose});
+    if (const KeyframePtr kf = graph_->keyframe(id))  // not culled meanwhile (live)
+      out.push_back({kf->timestamp, pose});
   return out;
 }
 

@@ -23,6 +23,7 @@ void KeyframeEdges::linkMatches(KeyframeId id, const FeatureSet& features,
     auto other = others.find(f.keyframe);
     if (other == others.end())
       other = others.emplace(f.keyframe, graph_.keyframe(f.keyframe)).first;
+    if (!other->second) continue;  // culled since the pool was built
     // As measured, not as refined: each edge keeps the measurements the optimization weighs.
     const Eigen::Vector3d& pOther = other->second->features.points[f.index];
     const Eigen::Vector3d& pNew = features.points[m.query];

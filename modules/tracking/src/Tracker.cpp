@@ -35,6 +35,7 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
       noiseEstimator_(featureOptions.noise, options.noiseEstimation),
       extractor_(featureOptions),
       policy_(options.keyframes),
+      culling_(options.culling),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
       localMap_(options_.localMap, graph_),
       dense_(options_, *graph_),
@@ -222,6 +223,7 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
   const KeyframeId reference = r.depthOnly ? lastReference_ : dominantKeyframe(inliersPerKeyframe);
   std::vector<KeyframeId> linkable;  // keyframes a new keyframe would get an edge to
   for (const auto& [id, n] : inliersPerKeyframe) {
+    if (!graph_->contains(id)) continue;  // culled since the pool was built
     if (static_cast<int>(n) >= options_.loopMinInliers) r.matchedKeyframes.push_back(id);
     if (static_cast<int>(n) >= options_.edgeMinMatches) linkable.push_back(id);
   }
@@ -251,6 +253,7 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
     r.reference = id;
     r.poseInReference = Pose::Identity();
     poolDirty_ = true;
+    r.culledKeyframes = cullRedundantKeyframes(id);
   } else {
     r.reference = reference;
     r.poseInReference = registrar_.keyframePose(reference).inverse() * pose;
@@ -265,9 +268,20 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
   }
 }
 
+std::vector<KeyframeId> Tracker::cullRedundantKeyframes(KeyframeId newest) {
+  if (culling_.options().redundantShare <= 0) return {};
+  // The keyframes the new one matched gained observers; the map's first keyframe stays (the
+  // sensor timing refers to it).
+  const KeyframeId first = graph_->ids().front();
+  std::vector<KeyframeId> candidates;
+  for (KeyframeId id : graph_->neighbours(newest))
+    if (id != first) candidates.push_back(id);
+  return culling_.cull(*graph_, candidates);
+}
+
 const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResult& r) {
   const auto t = SteadyClock::now();
-  const size_t keyframes = graph_->keyframeCount();
+  const size_t keyframes = graph_->keyframeCount() + graph_->culledCount();  // ever made
   if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
     // No frustum: the camera may be anywhere in the map. Built here, not in the background:
     // only a lost camera needs it.

@@ -41,6 +41,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(keyframes.gridCols >= 1 && keyframes.gridRows >= 1, "grid_cols, grid_rows must be >= 1");
   require(keyframes.minOverlap >= 0 && keyframes.minOverlap <= 1,
           "keyframe_overlap must be in [0, 1]");
+  require(culling.redundantShare >= 0 && culling.redundantShare <= 1,
+          "keyframe_cull_share must be in [0, 1]");
+  require(culling.minObservers >= 1, "keyframe_cull_observers must be >= 1");
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

@@ -161,6 +161,15 @@ void LiveMapScene::update(const KeyframeGraph& graph, const ViewerFrame* latest,
     }
     it->second->setPose(toCPose3D(pose));
   }
+  for (auto it = keyframeObjects_.begin(); it != keyframeObjects_.end();) {
+    if (poses.count(it->first)) {
+      ++it;
+      continue;
+    }
+    keyframes_->removeObject(it->second);  // culled as redundant
+    keyframeColours_.erase(it->first);
+    it = keyframeObjects_.erase(it);
+  }
 
   // Graph edges between keyframe centres; loop closures in their own colour.
   if (const size_t n = graph.edgeCount(); n != edgeCount_) {
@@ -184,9 +193,10 @@ void LiveMapScene::update(const KeyframeGraph& graph, const ViewerFrame* latest,
   Eigen::Vector3d previous;
   for (size_t k = 0; k < frames_.size(); k += stride) {
     const FrameRecord& f = frames_[k];
-    const auto it = poses.find(f.reference);
-    if (f.status == TrackingStatus::Lost || it == poses.end()) continue;
-    const Eigen::Vector3d p = (it->second * f.poseInReference).translation();
+    if (f.status == TrackingStatus::Lost) continue;
+    const std::optional<Pose> reference = graph.findPose(f.reference);  // culled: its successor
+    if (!reference) continue;
+    const Eigen::Vector3d p = (*reference * f.poseInReference).translation();
     if (havePrevious)
       trajectory_->appendLine(previous.x(), previous.y(), previous.z(), p.x(), p.y(), p.z());
     previous = p;

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <vector>
 
@@ -70,23 +71,38 @@ class KeyframeGraph {
   /// Adds matches between two keyframes; appends if the edge exists. Points are stored with
   /// the smaller id as i.
   void addMatches(KeyframeId a, KeyframeId b, const std::vector<PointMatch>& matchesAB);
+  /// Removes a keyframe other keyframes make redundant, with its edges, and adds `rewired` (the
+  /// matches that keep its neighbours' feature tracks joined) at once. Frames that referred to
+  /// it refer to `successor` from now on: pose(id) follows the successor's pose at the
+  /// relative pose the two have now.
+  void cullKeyframe(KeyframeId id, KeyframeId successor, const std::vector<KeyframeEdge>& rewired);
 
   size_t keyframeCount() const;
   size_t edgeCount() const;
   bool contains(KeyframeId id) const;
+  /// The keyframe, or null if it is not (or no longer) in the graph.
   KeyframePtr keyframe(KeyframeId id) const;
+  /// World pose of a keyframe, or of a culled keyframe through its successor.
   Pose pose(KeyframeId id) const;
+  /// The same, or nothing for an id the graph never had.
+  std::optional<Pose> findPose(KeyframeId id) const;
+  /// Keyframes culled so far.
+  size_t culledCount() const;
   /// Every keyframe id in increasing order.
   std::vector<KeyframeId> ids() const;
   std::map<KeyframeId, Pose> poses() const;
   /// Replaces the poses of the given keyframes, and the refined positions of the given
-  /// features, at once (one lock: readers never see a mix).
+  /// features, at once (one lock: readers never see a mix). Keyframes culled meanwhile are
+  /// left out.
   void setPoses(const std::map<KeyframeId, Pose>& poses, const PointRefinements& refined = {});
   /// The keyframe's refined feature positions; null if none was refined.
   RefinedPoints refinedPoints(KeyframeId id) const;
 
   std::vector<KeyframeId> neighbours(KeyframeId id) const;
+  /// Copies of the edges of one keyframe.
+  std::vector<KeyframeEdge> edgesOf(KeyframeId id) const;
   /// Breadth-first rings from root: ring 0 = {root}; keyframes up to maxRing hops, id -> ring.
+  /// Empty for a root not (or no longer) in the graph.
   std::map<KeyframeId, int> rings(KeyframeId root, int maxRing) const;
   /// Hop count between two keyframes, or -1 if more than maxHops apart (or unconnected).
   int hopDistance(KeyframeId a, KeyframeId b, int maxHops) const;
@@ -102,7 +118,13 @@ class KeyframeGraph {
 
  private:
   using EdgeKey = std::pair<KeyframeId, KeyframeId>;
+  struct Culled {
+    KeyframeId successor = 0;
+    Pose successorToCulled = Pose::Identity();
+  };
   std::map<KeyframeId, int> ringsLocked(KeyframeId root, int maxRing) const;
+  void addMatchesLocked(KeyframeId a, KeyframeId b, const std::vector<PointMatch>& matchesAB);
+  std::optional<Pose> poseLocked(KeyframeId id) const;
 
   mutable std::shared_mutex mutex_;
   std::map<KeyframeId, KeyframePtr> keyframes_;
@@ -110,6 +132,7 @@ class KeyframeGraph {
   std::map<KeyframeId, RefinedPoints> refined_;
   std::map<EdgeKey, KeyframeEdge> edges_;
   std::map<KeyframeId, std::vector<KeyframeId>> adjacency_;
+  std::map<KeyframeId, Culled> culled_;
 };
 
 }  // namespace slamdunk

@@ -69,7 +69,9 @@ size_t reviseFrameRecords(SessionLog<FrameRecord>& records,
                           const std::vector<TrackingResult::RevisedFrame>& revised);
 
 struct SlamStatistics {
-  size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, loopClosures = 0;
+  size_t frames = 0, tracked = 0, lost = 0, loopClosures = 0;
+  size_t keyframes = 0;        ///< in the map: made and not culled
+  size_t keyframesCulled = 0;  ///< made, then culled as redundant (KeyframeCulling)
   size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
   size_t relocalizations = 0;  ///< frames registered against the whole map after being lost

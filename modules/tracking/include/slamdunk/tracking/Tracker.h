@@ -12,6 +12,7 @@
 #include <slamdunk/features/FeatureExtractor.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 #include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/KeyframeCulling.h>
 #include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/DenseDepthTerm.h>
 #include <slamdunk/tracking/DepthOnlyFallback.h>
@@ -52,7 +53,9 @@ struct TrackingResult {
   KeyframeId reference = 0;                 ///< reference keyframe (not meaningful when lost)
   Pose poseInReference = Pose::Identity();  ///< T_reference_frame
   bool newKeyframe = false;
-  bool loopClosure = false;   ///< the new keyframe was promoted by the metric-loop test
+  bool loopClosure = false;  ///< the new keyframe was promoted by the metric-loop test
+  /// Keyframes the new one made redundant, culled from the map (KeyframeCulling).
+  std::vector<KeyframeId> culledKeyframes;
   bool relocalized = false;   ///< registered against the whole map after being lost
   bool depthOnly = false;     ///< registered by depth alone (the features did not register)
   bool skipped = false;       ///< not processed (SlamSystem): its timestamp did not increase
@@ -126,6 +129,8 @@ class Tracker {
   const FeaturePool& wholeMapPool(const CameraIntrinsics& K, TrackingResult& r);
   KeyframeId addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose);
   bool closesMetricLoop(const std::vector<KeyframeId>& matched) const;
+  /// Culls the keyframes the new keyframe made redundant; returns their ids.
+  std::vector<KeyframeId> cullRedundantKeyframes(KeyframeId newest);
 
   TrackerOptions options_;
   /// The features' noise: weighs them in registration and edges (estimated as frames come).
@@ -134,6 +139,7 @@ class Tracker {
   FeatureExtractor extractor_;
   KeyframePolicy policy_;
   ViewCoverage coverage_;
+  KeyframeCulling culling_;
   std::shared_ptr<KeyframeGraph> graph_;
   LocalMap localMap_;
   DenseDepthTerm dense_;

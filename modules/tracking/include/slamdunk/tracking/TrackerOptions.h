@@ -3,6 +3,7 @@
 
 #include <slamdunk/core/EnumNames.h>
 #include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/KeyframeCulling.h>
 #include <slamdunk/mapping/LocalMap.h>
 #include <slamdunk/tracking/DepthOnlyRegistration.h>
 #include <slamdunk/tracking/KeyframePolicy.h>
@@ -85,6 +86,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   RollingShutterEstimatorOptions rollingShutterEstimation;
   RansacOptions ransac;
   KeyframePolicyOptions keyframes;
+  KeyframeCullingOptions culling;
 
   /// Its INI keys (section [tracker]; localMap has its own section), listed once for loading
   /// and saving.
@@ -124,6 +126,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
     SensorTimingOptions::forEachKey(o.sensorTiming, k);
     RansacOptions::forEachKey(o.ransac, k);
     KeyframePolicyOptions::forEachKey(o.keyframes, k);
+    KeyframeCullingOptions::forEachKey(o.culling, k);
   }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

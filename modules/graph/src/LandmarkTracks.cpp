@@ -1,4 +1,4 @@
-#include "LandmarkTracks.h"
+#include <slamdunk/graph/LandmarkTracks.h>
 
 #include <map>
 #include <numeric>
