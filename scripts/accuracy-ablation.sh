@@ -28,6 +28,9 @@ configs=(
   "velocity prior always at its widest (velocity_prior_adaptive = false)|velocity_prior_adaptive=false"
   "fewer keyframes (keyframe_overlap = 0.7)|keyframe_overlap=0.7"
   "more keyframes (keyframe_overlap = 0.9)|keyframe_overlap=0.9"
+  "keyframes culled (keyframe_cull_share = 0.6)|keyframe_cull_share=0.6"
+  "keyframes culled (keyframe_cull_share = 0.7)|keyframe_cull_share=0.7"
+  "more ratio-test neighbours (knn_neighbours = 8)|knn_neighbours=8"
   "all of edge, not learned, no velocity, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false estimate_frame_velocity=false window_shift_angle=0"
 )
 

@@ -13,8 +13,12 @@ import sys
 
 
 def percentile(values, p):
+    """Linear between the two nearest ranks, as the apps' summaries compute it."""
     ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(round(p / 100 * (len(ordered) - 1))))]
+    rank = p / 100 * (len(ordered) - 1)
+    lo = int(rank)
+    hi = min(lo + 1, len(ordered) - 1)
+    return ordered[lo] + (rank - lo) * (ordered[hi] - ordered[lo])
 
 
 def blocks(path, size):

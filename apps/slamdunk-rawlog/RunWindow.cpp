@@ -1,59 +1,47 @@
 #include "RunWindow.h"
 
-#ifdef SLAMDUNK_WITH_VIEWER
-#include <slamdunk/viewer/LiveViewer.h>
-#endif
+#include <dlfcn.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 namespace slamdunk {
 
-#ifdef SLAMDUNK_WITH_VIEWER
-
-struct RunWindow::Viewer : viewer::LiveViewer {
-  using viewer::LiveViewer::LiveViewer;
-};
+namespace {
+/// Beside the program in the build tree, in <libdir>/slamdunk once installed.
+std::vector<std::filesystem::path> pluginCandidates() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path dir = ec ? std::filesystem::path(".") : exe.parent_path();
+  return {dir / SLAMDUNK_RUN_WINDOW_PLUGIN,
+          dir / ".." / SLAMDUNK_INSTALL_LIBDIR / "slamdunk" / SLAMDUNK_RUN_WINDOW_PLUGIN};
+}
+}  // namespace
 
 RunWindow::RunWindow(apps::RawlogSlamRun& run, bool paused,
                      std::function<void(const std::string&)> log) {
-  viewer::ViewerOptions view;
-  view.title = "SlamDunk - " + std::filesystem::path(run.options().rawlog).filename().string();
-  view.playbackKeys = true;
-  viewer_ = std::make_unique<Viewer>(run.graph(), view);
-  if (paused) viewer_->playback().togglePause();
-  Viewer& gui = *viewer_;
-  run.beforeFrame([&gui, log](size_t framesDone) {
-    if (gui.playback().paused() && log)
-      log("[slamdunk-rawlog] paused before frame " + std::to_string(framesDone));
-    gui.waitWhilePaused();
-  });
-  run.onFrame([&gui](const mrpt::obs::CObservation3DRangeScan& obs, const TrackingResult& r) {
-    gui.publish(obs, r);
-  });
+  std::string tried;
+  for (const std::filesystem::path& path : pluginCandidates()) {
+    if (!std::filesystem::exists(path)) continue;
+    // Never unloaded: MRPT's GUI thread, which outlives the window, may still run its code.
+    plugin_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+    if (plugin_) break;
+    tried += std::string("; ") + dlerror();
+  }
+  if (!plugin_)
+    throw std::runtime_error(std::string("--gui: no viewer plug-in ") + SLAMDUNK_RUN_WINDOW_PLUGIN +
+                             " beside the program (a build without slamdunk::viewer, which "
+                             "needs X11)" +
+                             tried);
+  const auto open = reinterpret_cast<OpenRunWindowFunction>(dlsym(plugin_, kOpenRunWindowSymbol));
+  if (!open) {
+    dlclose(plugin_);
+    throw std::runtime_error(std::string("--gui: ") + SLAMDUNK_RUN_WINDOW_PLUGIN + " has no " +
+                             kOpenRunWindowSymbol);
+  }
+  backend_.reset(open(run, paused, std::move(log)));
 }
-
-void RunWindow::flush() { viewer_->flush(); }
-
-void RunWindow::waitUntilClosed() {
-  if (!viewer_->isOpen()) return;
-  std::fprintf(stderr, "[slamdunk-rawlog] close the viewer window (or press q in it) to exit\n");
-  viewer_->waitUntilClosed();
-}
-
-#else
-
-struct RunWindow::Viewer {};
-
-RunWindow::RunWindow(apps::RawlogSlamRun&, bool, std::function<void(const std::string&)>) {
-  throw std::runtime_error("--gui: this build has no viewer (slamdunk::viewer needs X11)");
-}
-
-void RunWindow::flush() {}
-void RunWindow::waitUntilClosed() {}
-
-#endif
 
 RunWindow::~RunWindow() = default;
 

@@ -5,7 +5,7 @@
 
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
-#include <slamdunk/slam/CSlamDunkMapBuilder.h>
+#include <slamdunk/mrpt_slam/CSlamDunkMapBuilder.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 #include <slamdunk/slam/SlamSystem.h>
 

@@ -1,6 +1,6 @@
 #include <slamdunk/apps/RunSummary.h>
 
-#include "SummaryFormat.h"
+#include <slamdunk/apps/SummaryFormat.h>
 
 #include <sys/resource.h>
 

@@ -1,4 +1,4 @@
-#include "SummaryFormat.h"
+#include <slamdunk/apps/SummaryFormat.h>
 
 #include <slamdunk/eval/TrajectoryMetrics.h>
 

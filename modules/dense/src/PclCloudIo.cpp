@@ -1,7 +1,10 @@
-// The only translation unit that includes PCL (compile time: PCL headers are heavy).
+// libslamdunk_dense_pcl.so: the cloud files and the voxel filter through PCL, a plug-in the
+// dense module loads the first time it needs them (PclCloudPlugin.cpp). The only translation
+// unit that includes PCL.
+
+#include "PclCloudFunctions.h"
 
 #include <slamdunk/core/AtomicOutput.h>
-#include <slamdunk/dense/DenseReconstruction.h>
 
 #include <pcl/common/common.h>
 #include <pcl/filters/voxel_grid.h>
@@ -82,18 +85,14 @@ bool hasExtension(const std::string& path, const std::string& ext) {
   return e == ext;
 }
 
-}  // namespace
-
-bool haveDenseFileOutputs() { return true; }
-
-DenseCloud voxelFilter(const DenseCloud& cloud, double voxelSize) {
+DenseCloud pclVoxelFilter(const DenseCloud& cloud, double voxelSize) {
   if (!(voxelSize > 0)) throw std::invalid_argument("voxel filter: voxel size must be > 0");
   DenseCloud out;
   voxelFilterInto(toPcl(cloud), float(voxelSize), out);
   return out;
 }
 
-void writePly(const DenseCloud& cloud, const std::string& path, bool ascii) {
+void pclWritePly(const DenseCloud& cloud, const std::string& path, bool ascii) {
   if (cloud.empty()) throw std::runtime_error("cannot write '" + path + "': the cloud is empty");
   AtomicOutput out(path);
   pcl::PLYWriter writer;
@@ -107,7 +106,7 @@ void writePly(const DenseCloud& cloud, const std::string& path, bool ascii) {
   out.commit();
 }
 
-void writePcd(const DenseCloud& cloud, const std::string& path, bool ascii) {
+void pclWritePcd(const DenseCloud& cloud, const std::string& path, bool ascii) {
   if (cloud.empty()) throw std::runtime_error("cannot write '" + path + "': the cloud is empty");
   AtomicOutput out(path);
   pcl::PCDWriter writer;
@@ -122,7 +121,7 @@ void writePcd(const DenseCloud& cloud, const std::string& path, bool ascii) {
   out.commit();
 }
 
-DenseCloud readPointCloud(const std::string& path) {
+DenseCloud pclReadPointCloud(const std::string& path) {
   if (!fs::is_regular_file(path)) throw std::runtime_error("point cloud '" + path + "' not found");
   PclCloud pcl;
   int rc = -1;
@@ -138,4 +137,12 @@ DenseCloud readPointCloud(const std::string& path) {
   return out;
 }
 
+}  // namespace
 }  // namespace slamdunk
+
+extern "C" const slamdunk::PclCloudFunctions* slamdunkPclCloudFunctions() {
+  static const slamdunk::PclCloudFunctions functions{&slamdunk::pclVoxelFilter,
+                                                     &slamdunk::pclWritePly, &slamdunk::pclWritePcd,
+                                                     &slamdunk::pclReadPointCloud};
+  return &functions;
+}

@@ -114,6 +114,11 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   else
     index_ = std::make_unique<cv::flann::Index>(descriptors_,
                                                 cv::flann::KDTreeIndexParams(options.kdTrees));
+#if CV_VERSION_MAJOR > 4 || (CV_VERSION_MAJOR == 4 && CV_VERSION_MINOR >= 6)
+  // cv::flann::Index searches a copy of the rows it keeps itself (since OpenCV 4.6, seen in a
+  // heap profile here): ours would only double the pool's memory.
+  descriptors_.release();
+#endif
 }
 
 void PoolPart::keepBestSeen(const Eigen::Vector3d& centre, size_t budget,

@@ -17,19 +17,10 @@ struct KeyframeCullingOptions {
   /// `minObservers` other keyframes. 0: off (the paper keeps every keyframe).
   double redundantShare = 0;
   int minObservers = 2;
-
-  /// Its INI keys (in [tracker]), listed once for loading and saving.
-  template <class Self, class Keys>
-  static void forEachKey(Self& o, Keys& k) {
-    k("keyframe_cull_share", o.redundantShare);
-    k("keyframe_cull_observers", o.minObservers);
-  }
 };
 
 class KeyframeCulling {
  public:
-  explicit KeyframeCulling(KeyframeCullingOptions options = {}) : options_(options) {}
-
   struct Verdict {
     size_t matchedFeatures = 0;  ///< its features matched by at least one other keyframe
     size_t coveredFeatures = 0;  ///< ... by at least minObservers other keyframes
@@ -42,6 +33,8 @@ class KeyframeCulling {
     /// the pairwise forms give them the paper's weight 1.
     std::vector<KeyframeEdge> rewired;
   };
+  explicit KeyframeCulling(KeyframeCullingOptions options = {}) : options_(options) {}
+
   /// How much of keyframe `id` other keyframes see (from the graph's edges).
   Verdict examine(const KeyframeGraph& graph, KeyframeId id) const;
 

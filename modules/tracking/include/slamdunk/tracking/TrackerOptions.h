@@ -126,7 +126,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
     SensorTimingOptions::forEachKey(o.sensorTiming, k);
     RansacOptions::forEachKey(o.ransac, k);
     KeyframePolicyOptions::forEachKey(o.keyframes, k);
-    KeyframeCullingOptions::forEachKey(o.culling, k);
+    k("keyframe_cull_share", o.culling.redundantShare);
+    k("keyframe_cull_observers", o.culling.minObservers);
   }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

@@ -1,6 +1,6 @@
 #pragma once
 // What the offline and live summaries share: timing statistics, the ATE keys, the lines about
-// lost and skipped frames. Private to the module.
+// lost and skipped frames. For the two summaries (RunSummary, LiveSummary), not a public API.
 
 #include <slamdunk/apps/AteFigures.h>
 #include <slamdunk/slam/SlamSystem.h>

@@ -1,4 +1,4 @@
-#include <slamdunk/slam/CSlamDunkMapBuilder.h>
+#include <slamdunk/mrpt_slam/CSlamDunkMapBuilder.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 
 #include <mrpt/obs/CObservation3DRangeScan.h>

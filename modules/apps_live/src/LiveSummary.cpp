@@ -1,6 +1,6 @@
 #include <slamdunk/apps/LiveSummary.h>
 
-#include "SummaryFormat.h"
+#include <slamdunk/apps/SummaryFormat.h>
 
 #include <cstdio>
 
