@@ -158,8 +158,8 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
   // The new point vectors are built before taking the lock: readers wait only for the swap.
   std::map<KeyframeId, RefinedPoints> replacements;
   for (const auto& [id, changes] : refined) {
-    if (!contains(id)) continue;
     const KeyframePtr kf = keyframe(id);
+    if (!kf) continue;  // culled meanwhile
     const RefinedPoints old = refinedPoints(id);
     auto points = std::make_shared<std::vector<Eigen::Vector3d>>(old ? *old : kf->features.points);
     for (const auto& [feature, p] : changes) points->at(feature) = p;
