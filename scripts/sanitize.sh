@@ -60,13 +60,13 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 
 # CI's subset: the test folders of every reader (core: rawlog, TUM lists and trajectories, depth
 # PNGs, INI files; fuzz: all of them and maps, each input through the pipeline), the tracker,
-# the optimizer, the keyframe graph, the live pipeline's threads and checkpoints, and the
-# viewer's windows opened and closed; only their targets are built (the whole tree under the
+# the optimizer, loop closing, the keyframe graph, the live pipeline's threads and checkpoints,
+# and the viewer's windows opened and closed; only their targets are built (the whole tree under the
 # sanitizers took 21 minutes of a CI run). `--all` builds and runs every test.
 source scripts/lib/test-subsets.sh
 ci_test_dirs=$sanitized_test_dirs
-ci_targets=(test_core test_tracking test_local_optimizer test_keyframe_graph test_slam_options
-  fuzz-readers test_live_module test_viewer)
+ci_targets=(test_core test_tracking test_local_optimizer test_loop_closing test_keyframe_graph
+  test_slam_options fuzz-readers test_live_module test_viewer)
 # Left out of the subset's binaries: whole sequences through SLAM (minutes each here, 10-45 times
 # their Release time); their code runs in the tests that stay.
 ci_long_runs=(

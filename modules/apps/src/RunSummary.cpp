@@ -122,7 +122,16 @@ void printTextSummary(const RunFigures& f) {
   std::printf("  keyframes:       %zu, graph edges %zu", s.keyframes, f.edges);
   if (s.keyframesCulled > 0) std::printf(" (%zu more culled as redundant)", s.keyframesCulled);
   std::printf("\n");
-  std::printf("  loop closures:   %zu inferred\n", s.loopClosures);
+  const LoopClosingStatistics& places = s.placeLoops;
+  std::printf("  loop closures:   %zu inferred, %zu by place recognition", s.loopClosures,
+              places.loops);
+  if (!places.detectionMs.empty())
+    std::printf(" (%zu candidates verified, look-up ms median %.1f max %.1f)",
+                places.candidatesVerified, median(places.detectionMs), maxOf(places.detectionMs));
+  if (places.loops > 0)
+    std::printf(", corrected by up to %.3f m in %.0f ms at most", places.maxCorrection,
+                maxOf(places.correctionMs));
+  std::printf("\n");
   std::printf(
       "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",
       s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);

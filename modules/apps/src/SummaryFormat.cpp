@@ -48,6 +48,12 @@ void addSlamCounts(Json& json, const SlamStatistics& s) {
   json["keyframes_culled"] = s.keyframesCulled;
   json["optimizations"] = s.optimizations;
   json["loop_closures"] = s.loopClosures;
+  json["place_loops"] = s.placeLoops.loops;
+  json["place_candidates_verified"] = s.placeLoops.candidatesVerified;
+  addMs(json, s.placeLoops.detectionMs,
+        {{"place_lookup_ms_p50", Stat::median}, {"place_lookup_ms_max", Stat::max}});
+  addMs(json, s.placeLoops.correctionMs, {{"loop_correction_ms_max", Stat::max}});
+  json["loop_correction_max_m"] = rounded(s.placeLoops.maxCorrection, 4);
   json["relocalizations"] = s.relocalizations;
   json["frames_out_of_order"] = s.framesOutOfOrder;
 }

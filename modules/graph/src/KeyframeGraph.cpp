@@ -172,6 +172,19 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
     if (keyframes_.count(id)) refined_[id] = std::move(points);
 }
 
+void KeyframeGraph::applyCorrection(const std::map<KeyframeId, Pose>& poses, KeyframeId newest) {
+  std::unique_lock lock(mutex_);
+  const auto corrected = poses.find(newest);
+  const auto before = poses_.find(newest);
+  if (corrected != poses.end() && before != poses_.end()) {
+    const Pose carry = corrected->second * before->second.inverse();
+    for (auto it = poses_.upper_bound(newest); it != poses_.end(); ++it)
+      it->second = orthonormalized(carry * it->second);
+  }
+  for (const auto& [id, p] : poses)
+    if (const auto it = poses_.find(id); it != poses_.end()) it->second = p;
+}
+
 RefinedPoints KeyframeGraph::refinedPoints(KeyframeId id) const {
   std::shared_lock lock(mutex_);
   const auto it = refined_.find(id);

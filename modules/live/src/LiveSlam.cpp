@@ -149,6 +149,7 @@ void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const 
     pose.timestamp = r.timestamp;
     pose.status = r.status;
     pose.newKeyframe = r.newKeyframe;
+    pose.loopCorrected = r.loopCorrected;
     pose.latencyMs = latencyMs;
     latest_ = pose;
   }

@@ -7,8 +7,11 @@ namespace slamdunk {
 
 LocalOptimization::LocalOptimization(const LocalOptimizerOptions& options,
                                      std::shared_ptr<KeyframeGraph> graph, bool ownThread,
-                                     std::function<void()> mapChanged)
-    : options_(options), graph_(std::move(graph)), mapChanged_(std::move(mapChanged)) {
+                                     std::function<void()> mapChanged, FollowUp followUp)
+    : options_(options),
+      graph_(std::move(graph)),
+      mapChanged_(std::move(mapChanged)),
+      followUp_(std::move(followUp)) {
   if (ownThread) thread_ = std::thread([this] { loop(); });
 }
 
@@ -37,12 +40,14 @@ LocalOptimizer LocalOptimization::optimizerFor(const DepthNoiseModel& noise) con
 void LocalOptimization::optimizeAround(KeyframeId root, const DepthNoiseModel& noise) {
   const LocalOptimizationReport rep = optimizerFor(noise).optimize(*graph_, root);
   if (mapChanged_) mapChanged_();
-  std::lock_guard lock(statsMutex_);
-  if (rep.status == LocalOptimizationReport::Status::NothingToOptimise) return;
-  ++stats_.optimizations;
-  stats_.optimizationMs.push_back(rep.timeMs);
-  stats_.maxTranslationChange = std::max(stats_.maxTranslationChange, rep.maxTranslationChange);
-  stats_.maxRotationChangeDeg = std::max(stats_.maxRotationChangeDeg, rep.maxRotationChangeDeg);
+  if (rep.status != LocalOptimizationReport::Status::NothingToOptimise) {
+    std::lock_guard lock(statsMutex_);
+    ++stats_.optimizations;
+    stats_.optimizationMs.push_back(rep.timeMs);
+    stats_.maxTranslationChange = std::max(stats_.maxTranslationChange, rep.maxTranslationChange);
+    stats_.maxRotationChangeDeg = std::max(stats_.maxRotationChangeDeg, rep.maxRotationChangeDeg);
+  }
+  if (followUp_) followUp_(root, noise);
 }
 
 void LocalOptimization::loop() {

@@ -11,7 +11,8 @@
 namespace slamdunk {
 
 namespace {
-const std::set<std::string> kSections{"features", "local_map", "tracker", "optimizer", "slam"};
+const std::set<std::string> kSections{"features",  "local_map",    "tracker",
+                                      "optimizer", "loop_closing", "slam"};
 }
 
 void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -20,12 +21,14 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
   cfg.getAllSections(sections);
   for (const auto& s : sections)
     if (!s.empty() && s.rfind(prefix, 0) == 0 && !kSections.count(s.substr(prefix.size())))
-      throw std::invalid_argument("unknown section [" + printableText(s) +
-                                  "] (known: features, local_map, tracker, optimizer, slam)");
+      throw std::invalid_argument(
+          "unknown section [" + printableText(s) +
+          "] (known: features, local_map, tracker, optimizer, loop_closing, slam)");
   features.loadFromConfigFile(cfg, prefix + "features");
   tracker.localMap.loadFromConfigFile(cfg, prefix + "local_map");
   tracker.loadFromConfigFile(cfg, prefix + "tracker");
   optimizer.loadFromConfigFile(cfg, prefix + "optimizer");
+  loopClosing.loadFromConfigFile(cfg, prefix + "loop_closing");
   loadIniKeys(*this, cfg, prefix + "slam");
 }
 
@@ -35,6 +38,7 @@ void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   tracker.localMap.saveToConfigFile(cfg, prefix + "local_map");
   tracker.saveToConfigFile(cfg, prefix + "tracker");
   optimizer.saveToConfigFile(cfg, prefix + "optimizer");
+  loopClosing.saveToConfigFile(cfg, prefix + "loop_closing");
   saveIniKeys(*this, cfg, prefix + "slam");
 }
 

@@ -11,8 +11,14 @@ SlamSystem::SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph
     : options_(options),
       graph_(graph ? std::move(graph) : std::make_shared<KeyframeGraph>()),
       tracker_(options.tracker, options.features, graph_),
-      optimization_(options.optimizer, graph_, options.localOptimization && options.optimizerThread,
-                    [this] { tracker_.notifyMapChanged(); }) {}
+      loopClosing_(options.loopClosing.enabled
+                       ? std::make_unique<LoopClosing>(options.loopClosing, options.optimizer,
+                                                       options.tracker, graph_)
+                       : nullptr),
+      optimization_(
+          options.optimizer, graph_, options.localOptimization && options.optimizerThread,
+          [this] { tracker_.notifyMapChanged(); },
+          [this](KeyframeId id, const DepthNoiseModel& noise) { closeLoops(id, noise); }) {}
 
 SlamSystem::~SlamSystem() = default;
 
@@ -113,6 +119,14 @@ TrackingResult SlamSystem::track(const RgbdFrame& frame) {
   return r;
 }
 
+void SlamSystem::closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise) {
+  if (!loopClosing_) return;
+  const std::vector<LoopHypothesis> loops = loopClosing_->detect(keyframe);
+  if (loops.empty()) return;
+  loopClosing_->correct(loops, noise);
+  tracker_.notifyMapCorrected();
+}
+
 void SlamSystem::finish() {
   optimization_.waitUntilIdle();
   if (options_.globalPassAtEnd && graph_->keyframeCount() > 1)
@@ -161,6 +175,7 @@ SlamStatistics SlamSystem::statistics() const {
   s.maxOptimizationTranslation = optimization.maxTranslationChange;
   s.maxOptimizationRotationDeg = optimization.maxRotationChangeDeg;
   s.poolPreparation = tracker_.localMap().statistics();
+  if (loopClosing_) s.placeLoops = loopClosing_->statistics();
   s.rollingShutterMs = tracker_.rollingShutterMs();
   s.keypointNoise = tracker_.noiseModel();
   return s;

@@ -9,11 +9,46 @@ KeyframeEdges::KeyframeEdges(const TrackerOptions& options, const DepthNoiseMode
                              KeyframeGraph& graph, const DenseDepthTerm& dense)
     : options_(options), noise_(noise), graph_(graph), dense_(dense) {}
 
+PointMatch weighedPointMatch(const FeatureSet& other, uint32_t otherIndex, const FeatureSet& fresh,
+                             uint32_t freshIndex, double ratio,
+                             const Eigen::Matrix3d& R_other_fresh, const DepthNoiseModel& noise,
+                             EdgeInformation information, double keypointScaleSigma) {
+  // Normalised so that a match of two points 1 m away keeps about the paper's weight.
+  const double unitVariance = 2 * noise.variance(1.0);
+  // As measured, not as refined: each edge keeps the measurements the optimization weighs.
+  const Eigen::Vector3d& pOther = other.points[otherIndex];
+  const Eigen::Vector3d& pNew = fresh.points[freshIndex];
+  const double scaleVarOther =
+      noise.keypointScaleVariance(pOther.z(), other.keypoints[otherIndex].size, keypointScaleSigma);
+  const double scaleVarNew =
+      noise.keypointScaleVariance(pNew.z(), fresh.keypoints[freshIndex].size, keypointScaleSigma);
+  PointMatch pm{pOther, pNew, 1.0 - ratio};  // paper Sec. 4.3: w = 1 - θ'
+  pm.featureI = otherIndex;
+  pm.featureJ = freshIndex;
+  switch (information) {
+    case EdgeInformation::Paper:
+      break;
+    case EdgeInformation::Isotropic:
+      pm.weight *= unitVariance / (noise.variance(pOther.z()) + noise.variance(pNew.z()) +
+                                   scaleVarOther + scaleVarNew);
+      break;
+    case EdgeInformation::Anisotropic: {
+      const Eigen::Matrix3d& R = R_other_fresh;
+      auto across = [](const Eigen::Vector3d& p) {
+        const Eigen::Vector3d ray = p.normalized();
+        return Eigen::Matrix3d(Eigen::Matrix3d::Identity() - ray * ray.transpose());
+      };
+      const Eigen::Matrix3d covOther = noise.covariance(pOther) + scaleVarOther * across(pOther);
+      const Eigen::Matrix3d covNew = noise.covariance(pNew) + scaleVarNew * across(pNew);
+      pm.information = unitVariance * (covOther + R * covNew * R.transpose()).inverse();
+      break;
+    }
+  }
+  return pm;
+}
+
 void KeyframeEdges::linkMatches(KeyframeId id, const FeatureSet& features,
                                 const Registration& registration) {
-  // Normalised so that a match of two points 1 m away keeps about the paper's weight.
-  const double unitVariance = 2 * noise_.variance(1.0);
-  const double scaleSigma = options_.keypointScaleSigma;
   const Eigen::Matrix3d R_new = graph_.pose(id).linear();
   std::map<KeyframeId, KeyframePtr> others;
   std::map<KeyframeId, Eigen::Matrix3d> relativeRotation;  // other <- new
@@ -24,41 +59,13 @@ void KeyframeEdges::linkMatches(KeyframeId id, const FeatureSet& features,
     if (other == others.end())
       other = others.emplace(f.keyframe, graph_.keyframe(f.keyframe)).first;
     if (!other->second) continue;  // culled since the pool was built
-    // As measured, not as refined: each edge keeps the measurements the optimization weighs.
-    const Eigen::Vector3d& pOther = other->second->features.points[f.index];
-    const Eigen::Vector3d& pNew = features.points[m.query];
-    const double scaleVarOther = noise_.keypointScaleVariance(
-        pOther.z(), other->second->features.keypoints[f.index].size, scaleSigma);
-    const double scaleVarNew =
-        noise_.keypointScaleVariance(pNew.z(), features.keypoints[m.query].size, scaleSigma);
-    PointMatch pm{pOther, pNew, 1.0 - m.ratio};  // paper Sec. 4.3: w = 1 - θ'
-    pm.featureI = f.index;
-    pm.featureJ = m.query;
-    switch (options_.edgeInformation) {
-      case EdgeInformation::Paper:
-        break;
-      case EdgeInformation::Isotropic:
-        pm.weight *= unitVariance / (noise_.variance(pOther.z()) + noise_.variance(pNew.z()) +
-                                     scaleVarOther + scaleVarNew);
-        break;
-      case EdgeInformation::Anisotropic: {
-        auto it = relativeRotation.find(f.keyframe);
-        if (it == relativeRotation.end())
-          it = relativeRotation
-                   .emplace(f.keyframe, graph_.pose(f.keyframe).linear().transpose() * R_new)
-                   .first;
-        const Eigen::Matrix3d& R = it->second;
-        auto across = [](const Eigen::Vector3d& p) {
-          const Eigen::Vector3d ray = p.normalized();
-          return Eigen::Matrix3d(Eigen::Matrix3d::Identity() - ray * ray.transpose());
-        };
-        const Eigen::Matrix3d covOther = noise_.covariance(pOther) + scaleVarOther * across(pOther);
-        const Eigen::Matrix3d covNew = noise_.covariance(pNew) + scaleVarNew * across(pNew);
-        pm.information = unitVariance * (covOther + R * covNew * R.transpose()).inverse();
-        break;
-      }
-    }
-    perKeyframe[f.keyframe].push_back(pm);
+    auto R = relativeRotation.find(f.keyframe);
+    if (R == relativeRotation.end())
+      R = relativeRotation.emplace(f.keyframe, graph_.pose(f.keyframe).linear().transpose() * R_new)
+              .first;
+    perKeyframe[f.keyframe].push_back(
+        weighedPointMatch(other->second->features, f.index, features, m.query, m.ratio, R->second,
+                          noise_, options_.edgeInformation, options_.keypointScaleSigma));
   }
   for (const auto& [other, pm] : perKeyframe)
     if (static_cast<int>(pm.size()) >= options_.edgeMinMatches) graph_.addMatches(other, id, pm);

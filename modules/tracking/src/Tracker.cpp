@@ -59,6 +59,11 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   const auto start = SteadyClock::now();
   TrackingResult r;
   r.timestamp = frame.timestamp();
+  if (corrected_.exchange(false)) {
+    r.loopCorrected = true;
+    if (graph_->contains(lastReference_))
+      lastPose_ = orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
+  }
   r.pose = lastPose_;
   registrar_.newFrame(lost_ ? std::nullopt : std::optional<Pose>(lastPose_));
 
@@ -119,6 +124,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   timing_.endFrame(r.pose, byFeaturesInWindow);
   lastPose_ = r.pose;
   lastReference_ = r.reference;
+  lastPoseInReference_ = r.poseInReference;
   lost_ = false;
   framesLost_ = 0;
   r.timings.total = msSince(start);

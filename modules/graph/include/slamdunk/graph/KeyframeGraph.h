@@ -95,6 +95,10 @@ class KeyframeGraph {
   /// features, at once (one lock: readers never see a mix). Keyframes culled meanwhile are
   /// left out.
   void setPoses(const std::map<KeyframeId, Pose>& poses, const PointRefinements& refined = {});
+  /// A correction computed from the poses of keyframes up to `newest` (a snapshot): replaces
+  /// their poses as setPoses() does, and moves the keyframes added since rigidly with `newest`,
+  /// at once.
+  void applyCorrection(const std::map<KeyframeId, Pose>& poses, KeyframeId newest);
   /// The keyframe's refined feature positions; null if none was refined.
   RefinedPoints refinedPoints(KeyframeId id) const;
 

@@ -24,6 +24,9 @@ struct LivePose {
   /// in a world that is the first camera's sensor frame (z up), as CSlamDunkMapBuilder reports.
   mrpt::poses::CPose3D sensor;
   bool newKeyframe = false;
+  /// A loop correction (place recognition) moved the map since the previous pose: this pose may
+  /// jump by what the correction removed, and earlier poses moved with the map.
+  bool loopCorrected = false;
   double latencyMs = 0;  ///< from the frame's grab to this pose (queueing included)
 };
 

@@ -24,10 +24,14 @@ class LocalOptimization {
     double maxRotationChangeDeg = 0;
   };
 
+  /// What runs after each optimization around a new keyframe, on the same thread (loop
+  /// closing: the back end's steps never write poses at the same time).
+  using FollowUp = std::function<void(KeyframeId root, const DepthNoiseModel& noise)>;
+
   /// `mapChanged` is called after each optimization (from the optimizing thread): the tracker
-  /// re-reads the keyframe poses it moved.
+  /// re-reads the keyframe poses it moved. Then `followUp`, if any.
   LocalOptimization(const LocalOptimizerOptions& options, std::shared_ptr<KeyframeGraph> graph,
-                    bool ownThread, std::function<void()> mapChanged);
+                    bool ownThread, std::function<void()> mapChanged, FollowUp followUp = {});
   ~LocalOptimization();  ///< stops the thread (a running optimization finishes first)
   LocalOptimization(const LocalOptimization&) = delete;
   LocalOptimization& operator=(const LocalOptimization&) = delete;
@@ -49,6 +53,7 @@ class LocalOptimization {
   LocalOptimizerOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
   std::function<void()> mapChanged_;
+  FollowUp followUp_;
   mutable std::mutex statsMutex_;
   Statistics stats_;
   std::mutex jobMutex_;

@@ -1,9 +1,10 @@
 #pragma once
 // The whole pipeline's parameters: one INI file with sections [features], [local_map],
-// [tracker], [optimizer] and [slam], each loaded by its own options struct. Unknown sections or
-// keys are errors naming them; docs/parameters.md lists every key.
+// [tracker], [optimizer], [loop_closing] and [slam], each loaded by its own options struct. Unknown
+// sections or keys are errors naming them; docs/parameters.md lists every key.
 
 #include <slamdunk/features/FeatureExtractor.h>
+#include <slamdunk/loop_closing/LoopClosingOptions.h>
 #include <slamdunk/optimization/LocalOptimizer.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
@@ -17,6 +18,7 @@ struct SlamOptions : public mrpt::config::CLoadableOptions {
   FeatureOptions features;
   TrackerOptions tracker;
   LocalOptimizerOptions optimizer;
+  LoopClosingOptions loopClosing;
   bool localOptimization = true;  ///< run the relative BA when a keyframe is created
   bool optimizerThread = false;   ///< run it beside tracking (live use) instead of inline
   bool globalPassAtEnd = false;   ///< one optimization over the whole graph at the end

@@ -5,6 +5,7 @@
 
 #include <slamdunk/core/SessionLog.h>
 #include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/loop_closing/LoopClosing.h>
 #include <slamdunk/optimization/LocalOptimization.h>
 #include <slamdunk/slam/SlamOptions.h>
 #include <slamdunk/tracking/Tracker.h>
@@ -70,9 +71,10 @@ size_t reviseFrameRecords(SessionLog<FrameRecord>& records,
 
 struct SlamStatistics {
   size_t frames = 0, tracked = 0, lost = 0, loopClosures = 0;
-  size_t keyframes = 0;        ///< in the map: made and not culled
-  size_t keyframesCulled = 0;  ///< made, then culled as redundant (KeyframeCulling)
-  size_t trackedDepthOnly = 0;  ///< of the tracked frames, those registered by depth alone
+  LoopClosingStatistics placeLoops;  ///< loops closed by place recognition beyond the window
+  size_t keyframes = 0;              ///< in the map: made and not culled
+  size_t keyframesCulled = 0;        ///< made, then culled as redundant (KeyframeCulling)
+  size_t trackedDepthOnly = 0;       ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
   size_t relocalizations = 0;  ///< frames registered against the whole map after being lost
   /// Frames not processed because their timestamp was not after the previous frame's (a
@@ -120,6 +122,9 @@ class SlamSystem {
   /// The skip result for a frame whose timestamp does not increase, or nullopt.
   std::optional<TrackingResult> outOfOrder(double timestamp);
   TrackingResult track(const RgbdFrame& frame);
+  /// After the local optimization around a new keyframe, on its thread: place recognition,
+  /// and the correction of the loops it accepts.
+  void closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise);
 
   SlamOptions options_;
   std::shared_ptr<KeyframeGraph> graph_;
@@ -133,7 +138,9 @@ class SlamSystem {
   std::optional<double> lastProcessedTimestamp_;
 
   mutable std::mutex statsMutex_;
-  /// After the tracker: it is stopped first, and tells the tracker of every optimization.
+  std::unique_ptr<LoopClosing> loopClosing_;  ///< null when [loop_closing] enabled = false
+  /// After the tracker and loop closing: it is stopped first, and tells the tracker of every
+  /// optimization and correction.
   LocalOptimization optimization_;
 };
 

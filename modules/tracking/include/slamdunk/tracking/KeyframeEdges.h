@@ -10,6 +10,15 @@
 
 namespace slamdunk {
 
+/// One feature match as a graph point match between keyframe `other` (its feature
+/// `otherIndex`) and a newer one `fresh` (its feature `freshIndex`), matched with ratio θ':
+/// weighed by the ratio test and, per `information`, the features' depth and scale noise.
+/// R_other_fresh rotates the newer keyframe's frame into the other's.
+PointMatch weighedPointMatch(const FeatureSet& other, uint32_t otherIndex, const FeatureSet& fresh,
+                             uint32_t freshIndex, double ratio,
+                             const Eigen::Matrix3d& R_other_fresh, const DepthNoiseModel& noise,
+                             EdgeInformation information, double keypointScaleSigma);
+
 class KeyframeEdges {
  public:
   /// `noise` is the tracker's, which changes as frames come.

@@ -54,6 +54,8 @@ struct TrackingResult {
   Pose poseInReference = Pose::Identity();  ///< T_reference_frame
   bool newKeyframe = false;
   bool loopClosure = false;  ///< the new keyframe was promoted by the metric-loop test
+  /// A loop correction (place recognition, SlamSystem) moved the map since the last frame.
+  bool loopCorrected = false;
   /// Keyframes the new one made redundant, culled from the map (KeyframeCulling).
   std::vector<KeyframeId> culledKeyframes;
   bool relocalized = false;   ///< registered against the whole map after being lost
@@ -91,6 +93,13 @@ class Tracker {
   /// Keyframe poses changed (local optimization): the next frame asks Local Mapping for the
   /// window around the newest keyframe's pose. Callable from any thread.
   void notifyMapChanged() { mapChanged_ = true; }
+  /// A loop correction moved the keyframes: the next frame starts from the last one's pose
+  /// relative to its reference keyframe, wherever that keyframe is now (the frame reports
+  /// loopCorrected). Callable from any thread.
+  void notifyMapCorrected() {
+    corrected_ = true;
+    mapChanged_ = true;
+  }
 
   const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
   bool isLost() const { return lost_; }
@@ -151,13 +160,15 @@ class Tracker {
   size_t globalPoolKeyframes_ = 0;  ///< keyframe count when globalPool_ was built
   size_t framesLost_ = 0;
   Pose lastPose_ = Pose::Identity();
-  KeyframeId lastReference_ = 0;  ///< of the last tracked frame
+  KeyframeId lastReference_ = 0;                 ///< of the last tracked frame
+  Pose lastPoseInReference_ = Pose::Identity();  ///< the last tracked frame's, in lastReference_
   bool lost_ = false;
   bool poolDirty_ = false;
   /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
   /// against the whole map meanwhile (and spawn no keyframe).
   bool matchingWholeMap_ = false;
   std::atomic<bool> mapChanged_{false};
+  std::atomic<bool> corrected_{false};
   KeyframeId nextKeyframeId_ = 0;
   KeyframeId newestKeyframe_ = 0;
 };

@@ -1,0 +1,52 @@
+#pragma once
+// Loop Closing as a stage of the pipeline (issue 46), beside Camera Tracking and Local
+// Optimization: each new keyframe goes through place recognition; an accepted loop is linked
+// into the graph (its matches, weighed as the tracker weighs its own) and corrected: a
+// pose-graph optimization of the whole map, then the relative bundle adjustment around both
+// ends of the loop.
+
+#include <slamdunk/loop_closing/PlaceRecognition.h>
+#include <slamdunk/optimization/LocalOptimizer.h>
+#include <slamdunk/tracking/TrackerOptions.h>
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace slamdunk {
+
+struct LoopClosingStatistics {
+  size_t loops = 0;                  ///< loops accepted and corrected
+  size_t candidatesVerified = 0;     ///< keyframes checked by matching and RANSAC
+  std::vector<double> detectionMs;   ///< one per keyframe looked up
+  std::vector<double> correctionMs;  ///< one per corrected loop
+  double maxCorrection = 0;          ///< metres: largest keyframe move of a correction
+};
+
+class LoopClosing {
+ public:
+  /// The tracker's options weigh the loop's matches as its own edges are weighed.
+  LoopClosing(const LoopClosingOptions& options, const LocalOptimizerOptions& optimizer,
+              const TrackerOptions& tracker, std::shared_ptr<KeyframeGraph> graph);
+
+  /// Looks keyframe `id` up (reads the graph only); the loops it accepts, if any. detect() and
+  /// correct() run on one thread at a time (the back end's); statistics() from any.
+  std::vector<LoopHypothesis> detect(KeyframeId id);
+  /// Links and corrects the loops `detect()` accepted; nothing else may write poses meanwhile
+  /// (keyframes may be added: they move with the newest keyframe corrected).
+  void correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise);
+  LoopClosingStatistics statistics() const;
+  const LoopClosingOptions& options() const { return options_; }
+
+ private:
+  LoopClosingOptions options_;
+  LocalOptimizerOptions optimizer_;
+  EdgeInformation edgeInformation_;
+  double keypointScaleSigma_;
+  std::shared_ptr<KeyframeGraph> graph_;
+  PlaceRecognition recognition_;
+  mutable std::mutex statsMutex_;
+  LoopClosingStatistics stats_;
+};
+
+}  // namespace slamdunk

@@ -1,0 +1,176 @@
+#include <slamdunk/loop_closing/PlaceRecognition.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace slamdunk {
+
+namespace {
+/// Descriptors of many keyframes are sampled down to this many rows to learn the words.
+constexpr int kMaxLearningRows = 20000;
+/// Lloyd rounds per node of the words' tree: the clusters matter less than their number.
+constexpr int kLearningRounds = 5;
+}  // namespace
+
+PlaceRecognition::PlaceRecognition(const LoopClosingOptions& options) : options_(options) {
+  options_.validate();
+}
+
+void PlaceRecognition::learnWords(const KeyframeGraph& graph) {
+  std::vector<KeyframePtr> keyframes;
+  int rows = 0;
+  for (KeyframeId id : graph.ids())
+    if (KeyframePtr kf = graph.keyframe(id); kf && !kf->features.descriptors.empty()) {
+      rows += kf->features.descriptors.rows;
+      keyframes.push_back(std::move(kf));
+    }
+  if (keyframes.empty()) return;
+  const int step = std::max(1, rows / kMaxLearningRows);
+  std::vector<cv::Mat> sampled;
+  int k = 0;
+  for (const KeyframePtr& kf : keyframes)
+    for (int r = 0; r < kf->features.descriptors.rows; ++r, ++k)
+      if (k % step == 0) sampled.push_back(kf->features.descriptors.row(r));
+  cv::Mat learning;
+  cv::vconcat(sampled, learning);
+  Vocabulary words =
+      Vocabulary::learn(learning, options_.vocabularyBranching, options_.vocabularyLevels,
+                        kLearningRounds, options_.ransac.seed);
+  std::vector<std::vector<uint32_t>> perKeyframe;
+  for (const KeyframePtr& kf : keyframes)
+    perKeyframe.push_back(words.words(kf->features.descriptors));
+  index_ = PlaceIndex(std::move(words), perKeyframe);
+  for (const KeyframePtr& kf : keyframes)
+    index_.add(kf->id, index_.describe(kf->features.descriptors));
+  wordsLearnedAt_ = keyframes.size();
+}
+
+std::vector<KeyframeId> PlaceRecognition::candidates(const KeyframeGraph& graph, KeyframeId id,
+                                                     const BagOfWords& bag) const {
+  // The lowest score of the keyframes the new one is linked to: what "the same place" scores
+  // here (scenes and vocabularies differ too much for one fixed threshold).
+  double linkedScore = -1;
+  const std::vector<std::pair<KeyframeId, double>> scores = index_.query(bag);
+  for (KeyframeId n : graph.neighbours(id))
+    for (const auto& [other, score] : scores)
+      if (other == n) linkedScore = linkedScore < 0 ? score : std::min(linkedScore, score);
+  if (linkedScore < 0) return {};  // nothing to compare with (a new map, or just relocalized)
+  const std::map<KeyframeId, int> near = graph.rings(id, options_.minHops - 1);
+  std::vector<std::pair<KeyframeId, double>> found;
+  for (const auto& [other, score] : scores)
+    if (!near.count(other) && other != id && score >= options_.minScoreShare * linkedScore)
+      found.emplace_back(other, score);
+  std::stable_sort(found.begin(), found.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::vector<KeyframeId> out;
+  for (size_t i = 0; i < found.size() && static_cast<int>(i) < options_.maxCandidates; ++i)
+    out.push_back(found[i].first);
+  return out;
+}
+
+std::optional<LoopHypothesis> PlaceRecognition::verify(const Keyframe& query,
+                                                       const Keyframe& candidate) const {
+  const FeatureSet& q = query.features;
+  const FeatureSet& c = candidate.features;
+  if (q.size() < 3 || c.size() < 3 || q.descriptors.type() != c.descriptors.type()) return {};
+  cv::BFMatcher matcher(q.binary() ? cv::NORM_HAMMING : cv::NORM_L2);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(q.descriptors, c.descriptors, knn, 2);
+  std::vector<LoopHypothesis::Match> matches;
+  std::vector<Eigen::Vector3d> src, dst;
+  for (const auto& m : knn) {
+    if (m.size() < 2 || !(m[1].distance > 0)) continue;
+    const double ratio = m[0].distance / m[1].distance;
+    if (ratio >= options_.ratioThreshold) continue;
+    matches.push_back(
+        {static_cast<uint32_t>(m[0].trainIdx), static_cast<uint32_t>(m[0].queryIdx), ratio});
+    src.push_back(q.points[m[0].queryIdx]);
+    dst.push_back(c.points[m[0].trainIdx]);
+  }
+  if (static_cast<int>(matches.size()) < options_.minInliers) return {};
+  RansacOptions ransac = options_.ransac;
+  ransac.minInliers = options_.minInliers;
+  const RansacResult fit = ransacAbsoluteOrientation(src, dst, ransac);
+  if (!fit.success || static_cast<int>(fit.inlierCount) < options_.minInliers) return {};
+  LoopHypothesis h;
+  h.query = query.id;
+  h.candidate = candidate.id;
+  h.T_candidate_query = fit.transform;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (fit.inliers[i]) h.inliers.push_back(matches[i]);
+  return h;
+}
+
+bool PlaceRecognition::agree(const LoopHypothesis& a, const LoopHypothesis& b,
+                             const KeyframeGraph& graph) const {
+  // The motion from a's keyframe to b's, by the map (odometry) and by the two loops.
+  const Pose byMap = graph.pose(a.query).inverse() * graph.pose(b.query);
+  const Pose byLoops = (graph.pose(a.candidate) * a.T_candidate_query).inverse() *
+                       (graph.pose(b.candidate) * b.T_candidate_query);
+  return translationDistance(byMap, byLoops) <= options_.consistencyTranslation &&
+         rotationDistance(byMap, byLoops) * 180.0 / M_PI <= options_.consistencyAngleDeg;
+}
+
+bool PlaceRecognition::plausibleDrift(const LoopHypothesis& h, const KeyframeGraph& graph) const {
+  // The path of the keyframes made between the loop's ends (ids grow with time).
+  double path = 0;
+  std::optional<Eigen::Vector3d> last;
+  for (KeyframeId id : graph.ids()) {
+    if (id < h.candidate || id > h.query) continue;
+    const Eigen::Vector3d p = graph.pose(id).translation();
+    if (last) path += (p - *last).norm();
+    last = p;
+  }
+  const Pose corrected = graph.pose(h.candidate) * h.T_candidate_query;
+  return translationDistance(corrected, graph.pose(h.query)) <= 0.1 + options_.maxDriftShare * path;
+}
+
+PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph& graph,
+                                                            KeyframeId id) {
+  Detection d;
+  const std::optional<KeyframeId> previous = lastKeyframe_;
+  lastKeyframe_ = id;
+  const KeyframePtr kf = graph.keyframe(id);
+  if (!options_.enabled || !kf) return d;
+  const size_t keyframes = graph.keyframeCount();
+  if (keyframes >= static_cast<size_t>(options_.vocabularyKeyframes) &&
+      (!index_.ready() || keyframes >= 4 * wordsLearnedAt_)) {
+    learnWords(graph);  // indexes every keyframe, this one too
+    chain_.clear();
+    return d;
+  }
+  if (!index_.ready()) return d;
+  // Keyframes a busy back end skipped are indexed all the same (looked up: only the newest).
+  for (KeyframeId other : graph.ids())
+    if (other < id && !index_.contains(other))
+      if (const KeyframePtr skipped = graph.keyframe(other))
+        index_.add(other, index_.describe(skipped->features.descriptors));
+
+  BagOfWords bag = index_.describe(kf->features.descriptors);
+  std::optional<LoopHypothesis> best;
+  for (KeyframeId c : candidates(graph, id, bag)) {
+    const KeyframePtr candidate = graph.keyframe(c);
+    if (!candidate) continue;
+    ++d.candidatesVerified;
+    std::optional<LoopHypothesis> h = verify(*kf, *candidate);
+    if (h && !plausibleDrift(*h, graph)) h.reset();
+    if (h && (!best || h->inliers.size() > best->inliers.size())) best = std::move(h);
+  }
+  index_.add(id, std::move(bag));
+  if (best) best->score = index_.score(id, best->candidate);
+
+  const bool continues = best && !chain_.empty() && previous && chain_.back().query == *previous &&
+                         agree(chain_.back(), *best, graph);
+  if (!continues) chain_.clear();
+  if (best) chain_.push_back(std::move(*best));
+  if (static_cast<int>(chain_.size()) >= options_.consistentKeyframes) {
+    d.accepted = std::move(chain_);
+    chain_.clear();
+  }
+  return d;
+}
+
+}  // namespace slamdunk

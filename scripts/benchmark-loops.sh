@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Loop closing beyond the active window (issue 46): the office tour (55 m round four rooms)
+# through a Kinect-like camera whose stated focal length is 3 % off, so that the odometry drifts
+# by decimetres, run with local optimization alone ([loop_closing] enabled = false) and with
+# place recognition and global correction (the default), RUNS times each, offline and with the
+# back end on its thread (optimizer_thread = true, as live), then replayed live at 1x. Prints
+# per run and as medians: ATE, the error at the loop's return (scripts/loop-return-error.py),
+# loops found, look-up ms (median / max per keyframe), correction ms, the optimizer's share,
+# tracking p95 over the run and over the 30 frames before the correction reached the tracker.
+#   scripts/benchmark-loops.sh [RUNS]          (default 3; needs a built tree: scripts/build.sh)
+#   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (CI's short version only)
+# tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
+# walking pace (about a minute to render, once).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-3}
+source scripts/lib/benchmark.sh
+
+render() {  # render NAME FRAMES
+  [ -f "$work/$1.rawlog" ] ||
+    "$bin/synthetic-rgbd" "$work/$1.rawlog" --trajectory tour --frames "$2" --kinect-depth \
+      --stated-focal-error 3 --external-images --jpeg-quality 95 --supersampling 1 -q >/dev/null
+}
+render tour_drift 1100
+render tour_drift_full 3300
+printf '[loop_closing]\nenabled = false\n' >"$work/loops-local.ini"
+printf '[slam]\noptimizer_thread = true\n' >"$work/loops-thread.ini"
+printf '[loop_closing]\nenabled = false\n[slam]\noptimizer_thread = true\n' \
+  >"$work/loops-local-thread.ini"
+
+# p95 of ms_total over the 30 frames before each loop_corrected frame, and over all frames.
+p95s() {
+  python3 - "$1" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+ms = [float(r["ms_total"]) for r in rows if r["ms_total"]]
+def p95(v):
+    v = sorted(v)
+    if not v: return float("nan")
+    k = 0.95 * (len(v) - 1); lo = int(k); hi = min(lo + 1, len(v) - 1)
+    return v[lo] + (k - lo) * (v[hi] - v[lo])
+during = []
+for i, r in enumerate(rows):
+    if r.get("loop_corrected") == "1":
+        during += [float(x["ms_total"]) for x in rows[max(0, i - 30):i] if x["ms_total"]]
+print("%.1f %.1f" % (p95(ms), p95(during)))
+PY
+}
+
+keys=(ate_rmse_m place_loops place_lookup_ms_p50 place_lookup_ms_max loop_correction_ms_max
+  optimizer_share)
+for name in ${SEQUENCES:-tour_drift tour_drift_full}; do
+  rawlog=$work/$name.rawlog gt=$work/${name}_groundtruth.txt
+  echo "## $name ($runs runs)"
+  printf "%-13s %3s %s return_m return_deg p95_ms p95_during_ms\n" mode run "${keys[*]}"
+  for mode in local global local-thread global-thread; do
+    ini=config-ini/slamdunk-default.ini
+    case $mode in
+      local) ini=$work/loops-local.ini ;;
+      global-thread) ini=$work/loops-thread.ini ;;
+      local-thread) ini=$work/loops-local-thread.ini ;;
+    esac
+    for ((r = 1; r <= runs; r++)); do
+      out=$work/loops-$name-$mode-$r
+      "$bin/slamdunk-rawlog" "$rawlog" --config "$ini" --trajectory "$out.txt" --gt "$gt" \
+        --frame-log "$out.csv" --json -q >"$out.json"
+      read -r _ _ ret _ deg _ < <(python3 scripts/loop-return-error.py "$out.txt" "$gt" | tr -d ',')
+      printf "%-13s %3d" "$mode" "$r"
+      for k in "${keys[@]}"; do printf " %s" "$(field "$k" "$out.json")"; done
+      printf " %s %s %s\n" "$ret" "$deg" "$(p95s "$out.csv")"
+      echo "$ret $deg $(p95s "$out.csv")" >"$out.extra"
+    done
+    printf "%-13s med" "$mode"
+    for k in "${keys[@]}"; do
+      printf " %s" "$(for f in "$work/loops-$name-$mode"-*.json; do field "$k" "$f"; done | median)"
+    done
+    for col in 1 2 3 4; do
+      printf " %s" "$(for f in "$work/loops-$name-$mode"-*.extra; do cut -d' ' -f$col "$f"; done |
+        grep -v nan | median)"
+    done
+    echo
+  done
+  echo
+done
+
+# Live at 1x (slamdunk-live replaying CI's tour, back end on its thread): frames dropped, loops.
+rawlog=$(realpath "$work/tour_drift.rawlog")
+printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' "$rawlog" \
+  >"$work/loops-live.ini"
+echo "## tour_drift live at 1x"
+for ((r = 1; r <= runs; r++)); do
+  out=$work/loops-live-$r
+  "$bin/slamdunk-live" --config "$work/loops-live.ini" --trajectory "$out.txt" \
+    --gt "${rawlog%.rawlog}_groundtruth.txt" --frame-log "$out.csv" --json -q >"$out.json"
+  echo "run $r: frames_dropped $(field frames_dropped "$out.json"), place_loops" \
+    "$(field place_loops "$out.json"), ate_rmse_m $(field ate_rmse_m "$out.json"), tracking" \
+    "p95 / during the correction $(p95s "$out.csv") ms," \
+    "$(python3 scripts/loop-return-error.py "$out.txt" "${rawlog%.rawlog}_groundtruth.txt")"
+done

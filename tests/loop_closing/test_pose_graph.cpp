@@ -1,0 +1,94 @@
+// The pose graph a loop correction starts with: a ring of keyframes whose odometry drifted is
+// pulled back onto the truth by one loop constraint, and keyframes added meanwhile follow.
+#include <slamdunk/optimization/PoseGraphOptimizer.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace slamdunk;
+
+namespace {
+
+/// Keyframe i of a ring of `n` around a circle of radius 2 m, looking outward.
+Pose onRing(int i, int n) {
+  const double a = 2 * M_PI * i / n;
+  Pose T = Pose::Identity();
+  T.linear() = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(2 * std::sin(a), 0, 2 * std::cos(a));
+  return T;
+}
+
+/// The ring as odometry sees it: each step's rotation off by 0.4 degrees about the vertical.
+std::map<KeyframeId, Pose> drifted(int n) {
+  std::map<KeyframeId, Pose> out{{0, onRing(0, n)}};
+  Pose bias = Pose::Identity();
+  bias.linear() = Eigen::AngleAxisd(0.4 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (int i = 1; i < n; ++i)
+    out[i] = out[i - 1] * onRing(i - 1, n).inverse() * onRing(i, n) * bias;
+  return out;
+}
+
+void buildRing(KeyframeGraph& graph, const std::map<KeyframeId, Pose>& poses) {
+  for (const auto& [id, pose] : poses) {
+    auto kf = std::make_shared<Keyframe>();
+    kf->id = id;
+    graph.addKeyframe(kf, pose);
+    if (id > 0)
+      graph.addMatches(id - 1, id,
+                       {PointMatch{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0}});
+  }
+}
+
+double largestError(const KeyframeGraph& graph, int n) {
+  double worst = 0;
+  for (const auto& [id, pose] : graph.poses())
+    worst = std::max(worst, translationDistance(pose, onRing(static_cast<int>(id), n)));
+  return worst;
+}
+}  // namespace
+
+TEST(PoseGraph, OneLoopPullsADriftedRingBackOntoTheTruth) {
+  const int n = 40;
+  KeyframeGraph graph;
+  buildRing(graph, drifted(n));
+  const double before = largestError(graph, n);
+  ASSERT_GT(before, 0.3);  // the data needs the correction
+  // The loop as a place recognition measures it: the last keyframe relative to the first.
+  const RelativePoseConstraint loop{0, n - 1, onRing(0, n).inverse() * onRing(n - 1, n)};
+  const PoseGraphReport report = optimizePoseGraph(graph, {loop});
+  ASSERT_TRUE(report.usable) << report.message;
+  EXPECT_EQ(report.vertices, size_t(n));
+  EXPECT_EQ(report.constraints, size_t(n));  // n - 1 edges and the loop
+  EXPECT_LT(report.finalCost, report.initialCost);
+  EXPECT_EQ(graph.pose(0).matrix(), onRing(0, n).matrix());  // the gauge stays
+  EXPECT_LT(largestError(graph, n), before / 10);
+  EXPECT_GT(report.maxTranslationChange, 0.5 * before);
+}
+
+TEST(PoseGraph, KeyframesAddedMeanwhileMoveWithTheNewest) {
+  KeyframeGraph graph;
+  buildRing(graph, drifted(10));
+  const Pose newestBefore = graph.pose(9);
+  const Pose newcomerBefore = newestBefore * onRing(0, 10);  // anything, relative to 9
+  std::map<KeyframeId, Pose> corrected = graph.poses();
+  corrected[9] = onRing(9, 10);
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = 10;
+  graph.addKeyframe(kf, newcomerBefore);
+  graph.applyCorrection(corrected, 9);
+  EXPECT_TRUE(graph.pose(9).isApprox(onRing(9, 10)));
+  // Keyframe 10 keeps its pose relative to 9.
+  EXPECT_TRUE((graph.pose(9).inverse() * graph.pose(10))
+                  .isApprox(newestBefore.inverse() * newcomerBefore, 1e-9));
+}
+
+TEST(PoseGraph, ALoopNamingAnUnknownKeyframeChangesNothing) {
+  KeyframeGraph graph;
+  buildRing(graph, drifted(5));
+  const auto before = graph.poses();
+  const PoseGraphReport report = optimizePoseGraph(graph, {{0, 42, Pose::Identity()}});
+  EXPECT_FALSE(report.usable);
+  EXPECT_NE(report.message.find("does not hold"), std::string::npos);
+  for (const auto& [id, pose] : graph.poses()) EXPECT_EQ(pose.matrix(), before.at(id).matrix());
+}
