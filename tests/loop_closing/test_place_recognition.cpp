@@ -70,6 +70,42 @@ Pose translation(double x, double z) {
   return T;
 }
 
+/// A map built keyframe by keyframe, each linked to the one before (odometry) and handed to
+/// place recognition: keyframe 0 sees place A, keyframes 1-6 other places at x = 1..6 m.
+struct WalkFromA {
+  explicit WalkFromA(const LoopClosingOptions& options, uint32_t firstOtherSeed)
+      : recognition(options) {
+    add(0, view(0, a, Pose::Identity(), 1), Pose::Identity());
+    for (KeyframeId id = 1; id <= 6; ++id)
+      away.push_back(add(id, view(id, place(300, firstOtherSeed + id - 1), Pose::Identity(), id),
+                         translation(id, 0)));
+  }
+  PlaceRecognition::Detection add(KeyframeId id, KeyframePtr kf, const Pose& pose) {
+    graph.addKeyframe(std::move(kf), pose);
+    if (id > 0) {
+      PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
+      graph.addMatches(id - 1, id, {m, m, m});
+    }
+    return recognition.keyframeAdded(graph, id);
+  }
+  /// Place A again, seen from `truth` (relative to A's keyframe), where the map puts `mapPose`.
+  PlaceRecognition::Detection backAtA(KeyframeId id, const Pose& truth, const Pose& mapPose) {
+    return add(id, view(id, a, truth, id), mapPose);
+  }
+
+  PlaceRecognition recognition;
+  KeyframeGraph graph;
+  const Place a = place(300, 10);
+  std::vector<PlaceRecognition::Detection> away;
+};
+
+LoopClosingOptions smallMapOptions() {
+  LoopClosingOptions o;
+  o.vocabularyKeyframes = 6;
+  o.minHops = 3;
+  return o;
+}
+
 }  // namespace
 
 TEST(Vocabulary, SameSeedSameWordsAndDistinctDescriptorsDistinctWords) {
@@ -124,35 +160,17 @@ TEST(PlaceIndex, ScoresOneForTheSameBagAndZeroForNothingShared) {
 // the return verify a loop with A's keyframe, and the loop is accepted only at the second one
 // that agrees with the first.
 TEST(PlaceRecognition, AcceptsALoopOnceConsecutiveKeyframesAgree) {
-  LoopClosingOptions o;
-  o.vocabularyKeyframes = 6;
-  o.minHops = 3;
+  LoopClosingOptions o = smallMapOptions();
   o.consistentKeyframes = 2;
-  PlaceRecognition recognition(o);
-  KeyframeGraph graph;
-  const Place a = place(300, 10);
-  std::vector<Place> elsewhere;
-  for (uint32_t s = 0; s < 6; ++s) elsewhere.push_back(place(300, 20 + s));
-
-  auto add = [&](KeyframeId id, KeyframePtr kf, const Pose& pose) {
-    graph.addKeyframe(std::move(kf), pose);
-    if (id > 0) {  // a chain of odometry edges
-      PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
-      graph.addMatches(id - 1, id, {m, m, m});
-    }
-    return recognition.keyframeAdded(graph, id);
-  };
+  WalkFromA walk(o, 20);
+  for (const PlaceRecognition::Detection& d : walk.away) EXPECT_TRUE(d.accepted.empty());
   // The map's poses drifted by 0.3 m along x at the return.
-  EXPECT_TRUE(add(0, view(0, a, Pose::Identity(), 1), Pose::Identity()).accepted.empty());
-  for (KeyframeId id = 1; id <= 6; ++id)
-    EXPECT_TRUE(add(id, view(id, elsewhere[id - 1], Pose::Identity(), id), translation(id, 0))
-                    .accepted.empty());
   const PlaceRecognition::Detection first =
-      add(7, view(7, a, translation(0.1, 0), 7), translation(0.4, 0));
+      walk.backAtA(7, translation(0.1, 0), translation(0.4, 0));
   EXPECT_TRUE(first.accepted.empty()) << "one keyframe alone must not close a loop";
   EXPECT_GE(first.candidatesVerified, 1);
   const PlaceRecognition::Detection second =
-      add(8, view(8, a, translation(0.2, 0.1), 8), translation(0.5, 0.1));
+      walk.backAtA(8, translation(0.2, 0.1), translation(0.5, 0.1));
   ASSERT_EQ(second.accepted.size(), 2u);
   for (const LoopHypothesis& h : second.accepted) {
     EXPECT_EQ(h.candidate, 0u);
@@ -167,57 +185,26 @@ TEST(PlaceRecognition, AcceptsALoopOnceConsecutiveKeyframesAgree) {
 // The same return, but the second keyframe's loop disagrees with the first (a place that looks
 // like A, seen from where A's geometry does not fit the odometry): nothing is accepted.
 TEST(PlaceRecognition, LoopsThatDisagreeWithTheOdometryAreNotAccepted) {
-  LoopClosingOptions o;
-  o.vocabularyKeyframes = 6;
-  o.minHops = 3;
-  PlaceRecognition recognition(o);
-  KeyframeGraph graph;
-  const Place a = place(300, 10);
-  auto add = [&](KeyframeId id, KeyframePtr kf, const Pose& pose) {
-    graph.addKeyframe(std::move(kf), pose);
-    if (id > 0) {
-      PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
-      graph.addMatches(id - 1, id, {m, m, m});
-    }
-    return recognition.keyframeAdded(graph, id).accepted.size();
-  };
-  add(0, view(0, a, Pose::Identity(), 1), Pose::Identity());
-  for (KeyframeId id = 1; id <= 6; ++id)
-    add(id, view(id, place(300, 20 + id), Pose::Identity(), id), translation(id, 0));
-  EXPECT_EQ(add(7, view(7, a, translation(0.1, 0), 7), translation(0.4, 0)), 0u);
+  WalkFromA walk(smallMapOptions(), 21);
+  EXPECT_EQ(walk.backAtA(7, translation(0.1, 0), translation(0.4, 0)).accepted.size(), 0u);
   // By the odometry the camera moved 0.1 m; by the loops, 1 m.
-  EXPECT_EQ(add(8, view(8, a, translation(1.1, 0), 8), translation(0.5, 0)), 0u);
+  EXPECT_EQ(walk.backAtA(8, translation(1.1, 0), translation(0.5, 0)).accepted.size(), 0u);
 }
 
 // Place A seen again where the map says the camera is 6 m from A after a 6.6 m walk: identical
 // views, agreeing loops, but a correction no odometry drifts into (a second identical room).
 TEST(PlaceRecognition, ALookAlikeFartherThanTheDriftIsAnotherPlace) {
-  LoopClosingOptions o;
-  o.vocabularyKeyframes = 6;
-  o.minHops = 3;
-  PlaceRecognition recognition(o);
-  KeyframeGraph graph;
-  const Place a = place(300, 10);
-  auto add = [&](KeyframeId id, KeyframePtr kf, const Pose& pose) {
-    graph.addKeyframe(std::move(kf), pose);
-    if (id > 0) {
-      PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
-      graph.addMatches(id - 1, id, {m, m, m});
-    }
-    return recognition.keyframeAdded(graph, id).accepted.size();
-  };
-  add(0, view(0, a, Pose::Identity(), 1), Pose::Identity());
-  for (KeyframeId id = 1; id <= 6; ++id)
-    add(id, view(id, place(300, 20 + id), Pose::Identity(), id), translation(id, 0));
-  EXPECT_EQ(add(7, view(7, a, translation(0.1, 0), 7), translation(6.5, 0)), 0u);
-  EXPECT_EQ(add(8, view(8, a, translation(0.2, 0), 8), translation(6.6, 0)), 0u);
+  LoopClosingOptions o = smallMapOptions();
+  WalkFromA walk(o, 21);
+  EXPECT_EQ(walk.backAtA(7, translation(0.1, 0), translation(6.5, 0)).accepted.size(), 0u);
+  EXPECT_EQ(walk.backAtA(8, translation(0.2, 0), translation(6.6, 0)).accepted.size(), 0u);
   // The same views where the map's drift is plausible are a loop (the test above).
   o.maxDriftShare = 1.0;
   PlaceRecognition lenient(o);
   KeyframeGraph again;
   size_t accepted = 0;
   for (KeyframeId id = 0; id <= 8; ++id) {
-    again.addKeyframe(graph.keyframe(id), graph.pose(id));
+    again.addKeyframe(walk.graph.keyframe(id), walk.graph.pose(id));
     if (id > 0) {
       PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
       again.addMatches(id - 1, id, {m, m, m});

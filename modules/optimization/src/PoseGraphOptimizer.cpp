@@ -1,6 +1,7 @@
 #include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/optimization/PoseGraphOptimizer.h>
 
+#include "LocalProblem.h"
 #include "PoseParameters.h"
 
 #include <ceres/autodiff_cost_function.h>
@@ -42,22 +43,14 @@ struct RelativePoseResidual {
   double translationScale, rotationScale;
 };
 
-/// The smallest id of each connected component (edges and loops together).
+/// The smallest id of each connected component (edges and loops together): LocalProblem's rule.
 std::set<KeyframeId> gaugeVertices(const std::map<KeyframeId, Pose>& poses,
                                    const std::vector<std::pair<KeyframeId, KeyframeId>>& links) {
-  std::map<KeyframeId, KeyframeId> parent;
-  for (const auto& kv : poses) parent[kv.first] = kv.first;
-  auto find = [&](KeyframeId v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const auto& [a, b] : links) {
-    const KeyframeId ra = find(a), rb = find(b);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-  }
-  std::set<KeyframeId> fixed;
-  for (const auto& kv : poses) fixed.insert(find(kv.first));
-  return fixed;
+  LocalProblem components;
+  components.poses = poses;
+  for (const auto& [i, j] : links) components.edges.push_back({i, j, {}});
+  fixGauge(components, nullptr);
+  return components.fixed;
 }
 }  // namespace
 
