@@ -9,8 +9,14 @@
 # tracking p95 over the run and over the 30 frames before the correction reached the tracker.
 #   scripts/benchmark-loops.sh [RUNS]          (default 3; needs a built tree: scripts/build.sh)
 #   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (CI's short version only)
+#   PARTS="sessions" scripts/benchmark-loops.sh         (some of: drift live sessions; default all)
 # tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
 # walking pace (about a minute to render, once).
+# Then two sessions of one walk (exact depth): the first maps part of the tour, the second starts
+# where that map does not reach and walks into it; prints whether it joined and how far the
+# joined map's keyframes are from the ground truth in the first session's frame
+# (scripts/map-frame-error.py). tour_session: CI's pair (three times walking pace);
+# tour_session_full: the same stretches at walking pace.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -23,6 +29,15 @@ render() {  # render NAME FRAMES
 }
 render tour_drift 1100
 render tour_drift_full 3300
+session() {  # session NAME FRAMES SKIP FIRST: a stretch of the tour, exact depth
+  [ -f "$work/$1.rawlog" ] ||
+    "$bin/synthetic-rgbd" "$work/$1.rawlog" --trajectory tour --frames "$2" --skip-frames "$3" \
+      --first-frames "$4" --external-images --jpeg-quality 95 --supersampling 1 -q >/dev/null
+}
+session tour_session1 1100 250 250
+session tour_session2 1100 100 300
+session tour_session_full1 3300 750 750
+session tour_session_full2 3300 300 900
 printf '[loop_closing]\nenabled = false\n' >"$work/loops-local.ini"
 printf '[slam]\noptimizer_thread = true\n' >"$work/loops-thread.ini"
 printf '[loop_closing]\nenabled = false\n[slam]\noptimizer_thread = true\n' \
@@ -49,7 +64,11 @@ PY
 
 keys=(ate_rmse_m place_loops place_lookup_ms_p50 place_lookup_ms_max loop_correction_ms_max
   optimizer_share)
+parts=${PARTS:-drift live sessions}
+part() { [[ " $parts " == *" $1 "* ]]; }
+
 for name in ${SEQUENCES:-tour_drift tour_drift_full}; do
+  part drift || continue
   rawlog=$work/$name.rawlog gt=$work/${name}_groundtruth.txt
   echo "## $name ($runs runs)"
   printf "%-13s %3s %s return_m return_deg p95_ms p95_during_ms\n" mode run "${keys[*]}"
@@ -84,11 +103,12 @@ for name in ${SEQUENCES:-tour_drift tour_drift_full}; do
 done
 
 # Live at 1x (slamdunk-live replaying CI's tour, back end on its thread): frames dropped, loops.
+part live || runs_live=0
 rawlog=$(realpath "$work/tour_drift.rawlog")
 printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' "$rawlog" \
   >"$work/loops-live.ini"
-echo "## tour_drift live at 1x"
-for ((r = 1; r <= runs; r++)); do
+part live && echo "## tour_drift live at 1x"
+for ((r = 1; r <= ${runs_live:-runs}; r++)); do
   out=$work/loops-live-$r
   "$bin/slamdunk-live" --config "$work/loops-live.ini" --trajectory "$out.txt" \
     --gt "${rawlog%.rawlog}_groundtruth.txt" --frame-log "$out.csv" --json -q >"$out.json"
@@ -96,4 +116,23 @@ for ((r = 1; r <= runs; r++)); do
     "$(field place_loops "$out.json"), ate_rmse_m $(field ate_rmse_m "$out.json"), tracking" \
     "p95 / during the correction $(p95s "$out.csv") ms," \
     "$(python3 scripts/loop-return-error.py "$out.txt" "${rawlog%.rawlog}_groundtruth.txt")"
+done
+
+# Two sessions: the second from the first's saved map, offline, RUNS times.
+for pair in tour_session tour_session_full; do
+  part sessions || continue
+  echo "## $pair: a second session joins the first's map ($runs runs)"
+  first=$work/${pair}1 second=$work/${pair}2
+  "$bin/slamdunk-rawlog" "$first.rawlog" --trajectory "$work/$pair-first.txt" -q \
+    --save-map "$work/$pair-first.map" >/dev/null
+  for ((r = 1; r <= runs; r++)); do
+    out=$work/loops-$pair-$r
+    "$bin/slamdunk-rawlog" "$second.rawlog" --trajectory "$out.txt" --keyframes "$out-kf.txt" \
+      --load-map "$work/$pair-first.map" --frame-log "$out.csv" --json -q >"$out.json"
+    echo "run $r: components_started $(field components_started "$out.json"), joined" \
+      "$(field components_joined "$out.json"), correction ms $(field loop_correction_ms_max "$out.json")," \
+      "tracking p95 / during the join $(p95s "$out.csv") ms;" \
+      "$(python3 scripts/map-frame-error.py "$out-kf.txt" "${first}_groundtruth.txt" \
+        "${second}_groundtruth.txt")"
+  done
 done

@@ -49,6 +49,11 @@ int main(int argc, char** argv) {
         "keep only the first N frames of the path, at its own speed (0 = all; e.g. 600 = the "
         "first 20 s of 'scan')",
         false, 0, "N", cmd);
+    TCLAP::ValueArg<int> argSkipFrames(
+        "", "skip-frames",
+        "leave out the path's first N frames (before --first-frames counts): a second session "
+        "of the same walk, its frames and stamps as in the whole path",
+        false, 0, "N", cmd);
     TCLAP::ValueArg<unsigned> argSeed("s", "seed", "texture (and depth noise) seed", false, 1, "S",
                                       cmd);
     TCLAP::ValueArg<std::string> argGt(
@@ -116,6 +121,7 @@ int main(int argc, char** argv) {
     opts.trajectory = argTrajectory.getValue();
     opts.frames = argFrames.getValue();
     opts.firstFrames = argFirstFrames.getValue();
+    opts.skipFrames = argSkipFrames.getValue();
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
     opts.kinectDepth = argKinect.getValue();

@@ -88,6 +88,12 @@ start_job synthetic synthetic_sweep sweep
 # active window can close at the return (loop closing's test).
 start_job synthetic tour_drift tour --frames 1100 --kinect-depth --stated-focal-error 3 \
   --external-images --jpeg-quality 95 --supersampling 1
+# Two sessions of one walk through the office (the tour's frames 250-499, then 100-399): the
+# second starts where the first one's map does not reach, and walks into it 4 m later.
+start_job synthetic tour_session1 tour --frames 1100 --skip-frames 250 --first-frames 250 \
+  --external-images --jpeg-quality 95 --supersampling 1
+start_job synthetic tour_session2 tour --frames 1100 --skip-frames 100 --first-frames 300 \
+  --external-images --jpeg-quality 95 --supersampling 1
 start_job convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
 # The same hand at a third and a sixth of the frame rate: three and six times the motion between
 # frames.

@@ -755,7 +755,66 @@ void expectSecondHalfRelocalizedInTheSavedMap(const std::string& rawlog, const s
   EXPECT_LE(rmseInMap, maxRmse);
 }
 
+/// Largest position and angle error of the keyframes of `keyframes` against the ground truth
+/// (the two sessions' files together), expressed in the frame of `firstMapStart`.
+std::pair<double, double> worstKeyframeErrorInMapFrame(const Trajectory& keyframes,
+                                                       const Trajectory& groundTruth,
+                                                       const Pose& firstMapStart) {
+  double metres = 0, degrees = 0;
+  for (const auto& k : keyframes) {
+    const auto it = std::find_if(groundTruth.begin(), groundTruth.end(), [&](const auto& g) {
+      return std::abs(g.timestamp - k.timestamp) < 1e-4;
+    });
+    if (it == groundTruth.end()) return {std::nan(""), std::nan("")};
+    const Pose expected = firstMapStart.inverse() * it->pose;
+    metres = std::max(metres, translationDistance(expected, k.pose));
+    degrees = std::max(degrees, rotationDistance(expected, k.pose) * 180 / M_PI);
+  }
+  return {metres, degrees};
+}
+
 }  // namespace
+
+// A second session starts where the first session's map does not reach: it maps on its own (a
+// second component) and, once it walks into the mapped rooms, place recognition joins it to
+// the loaded map. The saved map holds both, in the first map's frame.
+TEST(SlamdunkRawlogMaps, ASecondSessionOutsideTheMapJoinsIt) {
+  REQUIRE_RAWLOG(first, "tour_session1");
+  REQUIRE_RAWLOG(second, "tour_session2");
+  const std::string dir = test::scratchDir("SlamMaps_Join");
+  const SlamRun a = runSlam(first, dir, "--save-map " + q(dir + "/first.map"));
+  ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
+  const std::string secondDir = dir + "/second";
+  fs::create_directories(secondDir);
+  const SlamRun b =
+      runSlam(second, secondDir,
+              "--load-map " + q(dir + "/first.map") + " --save-map " + q(dir + "/joined.map") +
+                  " --keyframes " + q(dir + "/keyframes.txt"));
+  ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
+  EXPECT_EQ(b.value("components_started"), 1) << b.result.output;
+  EXPECT_EQ(b.value("components_joined"), 1) << b.result.output;
+  EXPECT_GE(b.value("tracked"), 260) << b.result.output;  // lost only before mapping alone
+
+  Trajectory groundTruth = readTumTrajectory(test::groundTruthOf(first));
+  const Pose firstMapStart = groundTruth.front().pose;
+  for (const auto& g : readTumTrajectory(test::groundTruthOf(second))) groundTruth.push_back(g);
+  const Trajectory keyframes = readTumTrajectory(dir + "/keyframes.txt");
+  EXPECT_GT(keyframes.size(), a.value("keyframes")) << "the second session's keyframes";
+  const auto [metres, degrees] =
+      worstKeyframeErrorInMapFrame(keyframes, groundTruth, firstMapStart);
+  std::cout << "joined map: " << keyframes.size() << " keyframes, worst " << metres << " m "
+            << degrees << " deg from the ground truth in the first map's frame\n";
+  EXPECT_LE(metres, 0.02);
+  EXPECT_LE(degrees, 1.0);
+
+  // The saved map is the joined one: a third run from it relocalizes at once.
+  const std::string thirdDir = dir + "/third";
+  fs::create_directories(thirdDir);
+  const SlamRun c = runSlam(second, thirdDir, "--load-map " + q(dir + "/joined.map"));
+  ASSERT_EQ(c.result.exitCode, 0) << c.result.output;
+  EXPECT_EQ(c.value("components_started"), 0) << c.result.output;
+  EXPECT_LE(c.value("first_tracked_frame"), 5) << c.result.output;
+}
 
 // In the map's frame the figure includes the first half's own drift (10.5 mm measured; 6.4 mm
 // with the dense depth term, which exact depth favours).

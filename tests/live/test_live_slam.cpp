@@ -15,6 +15,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/hwdrivers/CCameraSensor.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <mutex>
@@ -119,6 +120,62 @@ TEST(LiveSlam, PushedFramesAreTrackedAndEveryPoseIsPublished) {
   std::printf("pushed 120 frames: ATE %.4f m over %zu poses, %zu keyframes\n", ev.ate.stats.rmse,
               ev.pairs, result.stats.keyframes);
   EXPECT_LT(ev.ate.stats.rmse, 0.002);  // measured 0.9-1.0 mm (4 runs)
+}
+
+// A robot restarted where its saved map does not reach: LiveSlam maps on its own, the poses
+// say so (separateComponent), and once the camera walks into the mapped rooms place
+// recognition joins the two; from then on the poses are in the saved map's frame.
+TEST(LiveSlam, ASessionOutsideTheStartMapIsToldSoUntilItJoins) {
+  REQUIRE_RAWLOG(first, "tour_session1");
+  REQUIRE_RAWLOG(second, "tour_session2");
+  SlamSystem mapping(SlamOptions{});
+  RawlogReader firstSession(first);
+  while (auto obs = firstSession.next()) {
+    obs->load();
+    mapping.process(*obs);
+  }
+  mapping.finish();
+
+  auto source = std::make_unique<PushFrameSource>();
+  PushFrameSource& push = *source;
+  LiveSession session;
+  session.startMap = mapping.graph();
+  LiveSlam live(optionsWithoutCheckpoints(), std::move(source), session);
+  std::vector<LivePose> published;
+  std::mutex mutex;
+  live.onPose([&](const LivePose& p) {
+    std::lock_guard lock(mutex);
+    published.push_back(p);
+  });
+  live.start();
+  ASSERT_TRUE(live.waitUntilOpen(5));
+  RawlogReader secondSession(second);
+  size_t pushed = 0;
+  while (auto obs = secondSession.next()) {
+    obs->load();
+    ASSERT_TRUE(push.push(obs));
+    ++pushed;  // one at a time: none dropped, the same keyframes as offline
+    ASSERT_TRUE(waitFor([&] { return live.counters().processed == pushed; }));
+  }
+  push.close();
+  ASSERT_TRUE(waitFor([&] { return live.finished(); }));
+  const LiveResult result = live.finish();
+  EXPECT_EQ(result.stats.componentsStarted, 1u);
+  EXPECT_EQ(result.stats.placeLoops.joins, 1u);
+
+  std::lock_guard lock(mutex);
+  ASSERT_EQ(published.size(), pushed);
+  const auto started = std::find_if(published.begin(), published.end(),
+                                    [](const LivePose& p) { return p.separateComponent; });
+  ASSERT_NE(started, published.end());
+  EXPECT_EQ(started->status, TrackingStatus::Initialized);
+  const auto joined =
+      std::find_if(started, published.end(), [](const LivePose& p) { return p.loopCorrected; });
+  ASSERT_NE(joined, published.end());
+  EXPECT_FALSE(joined->separateComponent);
+  for (auto p = started; p != joined; ++p) EXPECT_TRUE(p->separateComponent) << p->frameIndex;
+  EXPECT_FALSE(published.back().separateComponent);
+  EXPECT_EQ(published.back().status, TrackingStatus::Tracked);
 }
 
 TEST(LiveSlam, ApplicationOwnedSensorIsPolledByTheGrabber) {

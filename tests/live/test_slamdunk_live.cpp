@@ -510,6 +510,33 @@ TEST(SlamdunkLive, LoadMapContinuesInTheSavedMap) {
   EXPECT_LT(rotationDistance(a.front().pose, b.front().pose), 0.05);
 }
 
+// A live session started where the loaded map does not reach maps on its own, and place
+// recognition joins it to the loaded map once the camera walks in (on the optimizer's thread).
+TEST(SlamdunkLive, ASessionOutsideTheLoadedMapJoinsIt) {
+  REQUIRE_RAWLOG(first, "tour_session1");
+  REQUIRE_RAWLOG(second, "tour_session2");
+  const std::string dir = test::scratchDir("Live_Join");
+  const auto mapped =
+      test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(first) + " --trajectory " +
+                       q(dir + "/first.txt") + " -q --save-map " + q(dir + "/first.map"));
+  ASSERT_EQ(mapped.exitCode, 0) << mapped.output;
+  const LiveRun live =
+      runLive(replayIni(dir, second), dir,
+              "--load-map " + q(dir + "/first.map") + " --map " + q(dir + "/run.map"));
+  ASSERT_EQ(live.result.exitCode, 0) << live.result.output;
+  EXPECT_EQ(live.value("components_started"), 1) << live.result.output;
+#ifndef SLAMDUNK_SANITIZED  // sanitized code drops most frames: too few keyframes to agree
+  EXPECT_EQ(live.value("components_joined"), 1) << live.result.output;
+  // The saved map is the joined one: the session's first frames relocalize in it at once.
+  const auto again =
+      test::runCommand(test::toolPath("slamdunk-rawlog") + " " + q(second) + " --trajectory " +
+                       q(dir + "/again.txt") + " --json -q --load-map " + q(dir + "/run.map"));
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  EXPECT_EQ(test::jsonValue(again.output, "components_started"), 0) << again.output;
+  EXPECT_LE(test::jsonValue(again.output, "first_tracked_frame"), 5) << again.output;
+#endif
+}
+
 // ------------------------------------------------------------------ other sources
 
 TEST(SlamdunkLive, OpenNI2WithoutACameraFailsFastAndClearly) {

@@ -80,9 +80,11 @@ struct WalkFromA {
       away.push_back(add(id, view(id, place(300, firstOtherSeed + id - 1), Pose::Identity(), id),
                          translation(id, 0)));
   }
-  PlaceRecognition::Detection add(KeyframeId id, KeyframePtr kf, const Pose& pose) {
+  /// Keyframe `id` linked to the one before, unless it starts a new component of the map.
+  PlaceRecognition::Detection add(KeyframeId id, KeyframePtr kf, const Pose& pose,
+                                  bool linked = true) {
     graph.addKeyframe(std::move(kf), pose);
-    if (id > 0) {
+    if (id > 0 && linked) {
       PointMatch m{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0};
       graph.addMatches(id - 1, id, {m, m, m});
     }
@@ -90,7 +92,11 @@ struct WalkFromA {
   }
   /// Place A again, seen from `truth` (relative to A's keyframe), where the map puts `mapPose`.
   PlaceRecognition::Detection backAtA(KeyframeId id, const Pose& truth, const Pose& mapPose) {
-    return add(id, view(id, a, truth, id), mapPose);
+    return add(id, viewOfA(id, truth), mapPose);
+  }
+  /// Keyframe `id`'s view of place A from `truth`.
+  KeyframePtr viewOfA(KeyframeId id, const Pose& truth) const {
+    return view(id, a, truth, static_cast<uint32_t>(id));
   }
 
   PlaceRecognition recognition;
@@ -212,6 +218,35 @@ TEST(PlaceRecognition, ALookAlikeFartherThanTheDriftIsAnotherPlace) {
     accepted += lenient.keyframeAdded(again, id).accepted.size();
   }
   EXPECT_EQ(accepted, 2u);
+}
+
+// A second component of the map (a session that started where the map does not reach) comes
+// to place A: the map puts it 60 m away, and no path bounds the correction, so the join waits
+// for three agreeing keyframes where a loop within one component needs two.
+TEST(PlaceRecognition, JoiningAnotherComponentWaitsForMoreAgreeingKeyframes) {
+  LoopClosingOptions o = smallMapOptions();
+  o.consistentKeyframes = 2;
+  o.joinConsistentKeyframes = 3;
+  o.minHops = 5;  // the new component's own first keyframe is no candidate
+  WalkFromA walk(o, 22);
+  const Pose origin = translation(60, 0);  // the new component's first keyframe
+  std::vector<PlaceRecognition::Detection> joining;
+  for (KeyframeId id = 7; id <= 10; ++id) {
+    const double walked = 0.1 * (id - 7);
+    joining.push_back(walk.add(id, walk.viewOfA(id, translation(0.1 + walked, 0)),
+                               origin * translation(walked, 0), id > 7));
+  }
+  EXPECT_EQ(joining[0].candidatesVerified, 0) << "a keyframe without neighbours has no baseline";
+  for (int i = 1; i <= 2; ++i) {
+    EXPECT_GE(joining[i].candidatesVerified, 1);
+    EXPECT_TRUE(joining[i].accepted.empty()) << "keyframe " << 7 + i;
+  }
+  ASSERT_EQ(joining[3].accepted.size(), 3u);
+  for (const LoopHypothesis& h : joining[3].accepted) {
+    EXPECT_TRUE(h.joins);
+    EXPECT_EQ(h.candidate, 0u);
+  }
+  EXPECT_NEAR(joining[3].accepted.back().T_candidate_query.translation().x(), 0.4, 0.005);
 }
 
 TEST(LoopClosingOptions, BadValuesAreNamed) {

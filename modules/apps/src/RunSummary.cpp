@@ -132,6 +132,11 @@ void printTextSummary(const RunFigures& f) {
     std::printf(", corrected by up to %.3f m in %.0f ms at most", places.maxCorrection,
                 maxOf(places.correctionMs));
   std::printf("\n");
+  if (s.componentsStarted > 0)
+    std::printf(
+        "  map components:  %zu started (not relocalized in the loaded map), %zu joined by place "
+        "recognition\n",
+        s.componentsStarted, places.joins);
   std::printf(
       "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",
       s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);

@@ -54,6 +54,8 @@ void addSlamCounts(Json& json, const SlamStatistics& s) {
         {{"place_lookup_ms_p50", Stat::median}, {"place_lookup_ms_max", Stat::max}});
   addMs(json, s.placeLoops.correctionMs, {{"loop_correction_ms_max", Stat::max}});
   json["loop_correction_max_m"] = rounded(s.placeLoops.maxCorrection, 4);
+  json["components_started"] = s.componentsStarted;
+  json["components_joined"] = s.placeLoops.joins;
   json["relocalizations"] = s.relocalizations;
   json["frames_out_of_order"] = s.framesOutOfOrder;
 }

@@ -150,6 +150,7 @@ void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const 
     pose.status = r.status;
     pose.newKeyframe = r.newKeyframe;
     pose.loopCorrected = r.loopCorrected;
+    pose.separateComponent = slam_->inSeparateComponent();
     pose.latencyMs = latencyMs;
     latest_ = pose;
   }

@@ -3,6 +3,7 @@
 #include <slamdunk/tracking/KeyframeEdges.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace slamdunk {
 
@@ -37,8 +38,12 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
   // The poses first, from the loops' relative poses alone: the matches' edges, added after,
   // then start the bundle adjustment close to where they agree.
   std::vector<RelativePoseConstraint> constraints;
-  for (const LoopHypothesis& h : loops)
+  bool joined = false;
+  for (const LoopHypothesis& h : loops) {
+    if (h.joins && !joined) joinComponents(h);  // its agreeing successors join the same two
+    joined = joined || h.joins;
     constraints.push_back({h.candidate, h.query, h.T_candidate_query});
+  }
   const PoseGraphReport poseGraph = optimizePoseGraph(*graph_, constraints, options_.poseGraph);
   if (!poseGraph.usable) return;
   for (const LoopHypothesis& h : loops) {
@@ -60,8 +65,30 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
   recognition_.resetConsistency();
   std::lock_guard lock(statsMutex_);
   ++stats_.loops;
+  if (joined) ++stats_.joins;
   stats_.maxCorrection = std::max(stats_.maxCorrection, poseGraph.maxTranslationChange);
   stats_.correctionMs.push_back(msSince(t0));
+}
+
+void LoopClosing::joinComponents(const LoopHypothesis& loop) {
+  constexpr int kWhole = std::numeric_limits<int>::max();
+  const std::map<KeyframeId, int> queryPart = graph_->rings(loop.query, kWhole);
+  const std::map<KeyframeId, int> candidatePart = graph_->rings(loop.candidate, kWhole);
+  if (queryPart.empty() || candidatePart.empty() || queryPart.count(loop.candidate)) return;
+  // Maps the query's component's frame into the candidate's, as the loop measured it.
+  const Pose queryToCandidate =
+      graph_->pose(loop.candidate) * loop.T_candidate_query * graph_->pose(loop.query).inverse();
+  const bool queryNewer = queryPart.begin()->first > candidatePart.begin()->first;
+  const std::map<KeyframeId, int>& moving = queryNewer ? queryPart : candidatePart;
+  const Pose move = queryNewer ? queryToCandidate : Pose(queryToCandidate.inverse());
+  std::map<KeyframeId, Pose> moved;
+  for (const auto& [id, pose] : graph_->poses())
+    if (moving.count(id)) moved[id] = orthonormalized(move * pose);
+  // The tracker adds keyframes to the query's component: those added meanwhile move with it.
+  if (queryNewer)
+    graph_->applyCorrection(moved, moving.rbegin()->first);
+  else
+    graph_->setPoses(moved);
 }
 
 LoopClosingStatistics LoopClosing::statistics() const {

@@ -31,6 +31,7 @@ void LoopClosingOptions::validate(const std::string& section) const {
   require(consistencyTranslation > 0, "consistency_translation must be > 0");
   require(consistencyAngleDeg > 0, "consistency_angle_deg must be > 0");
   require(maxDriftShare > 0, "max_drift_share must be > 0");
+  require(joinConsistentKeyframes >= 1, "join_consistent_keyframes must be >= 1");
   require(poseGraph.translationSigma > 0, "pose_graph_translation_sigma must be > 0");
   require(poseGraph.rotationSigma > 0, "pose_graph_rotation_sigma must be > 0");
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace slamdunk {
 
@@ -156,7 +157,8 @@ PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph&
     if (!candidate) continue;
     ++d.candidatesVerified;
     std::optional<LoopHypothesis> h = verify(*kf, *candidate);
-    if (h && !plausibleDrift(*h, graph)) h.reset();
+    if (h) h->joins = graph.hopDistance(id, c, std::numeric_limits<int>::max()) < 0;
+    if (h && !h->joins && !plausibleDrift(*h, graph)) h.reset();
     if (h && (!best || h->inliers.size() > best->inliers.size())) best = std::move(h);
   }
   index_.add(id, std::move(bag));
@@ -166,7 +168,11 @@ PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph&
                          agree(chain_.back(), *best, graph);
   if (!continues) chain_.clear();
   if (best) chain_.push_back(std::move(*best));
-  if (static_cast<int>(chain_.size()) >= options_.consistentKeyframes) {
+  // Without a path between them, only more agreeing keyframes tell another place from this one.
+  const bool joins =
+      std::any_of(chain_.begin(), chain_.end(), [](const auto& h) { return h.joins; });
+  const int needed = joins ? options_.joinConsistentKeyframes : options_.consistentKeyframes;
+  if (static_cast<int>(chain_.size()) >= needed) {
     d.accepted = std::move(chain_);
     chain_.clear();
   }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 namespace slamdunk {
 
@@ -109,6 +110,12 @@ TrackingResult SlamSystem::track(const RgbdFrame& frame) {
       if (r.relocalized) ++stats_.relocalizations;
     }
     if (r.newKeyframe) ++stats_.keyframes;
+    if (r.newComponent) ++stats_.componentsStarted;
+    if (r.newComponent) separateComponent_ = true;
+    if (r.loopCorrected) separateComponent_ = apartAfterCorrection_.load();
+    if (r.relocalized && separateComponent_)  // perhaps into the map's first component
+      separateComponent_ = graph_->hopDistance(graph_->ids().front(), r.reference,
+                                               std::numeric_limits<int>::max()) < 0;
     stats_.keyframes -= r.culledKeyframes.size();
     stats_.keyframesCulled += r.culledKeyframes.size();
     if (r.loopClosure) ++stats_.loopClosures;
@@ -124,6 +131,11 @@ void SlamSystem::closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise) {
   const std::vector<LoopHypothesis> loops = loopClosing_->detect(keyframe);
   if (loops.empty()) return;
   loopClosing_->correct(loops, noise);
+  // Joined to the map's first component, or to another one (checked on this rare event only:
+  // a walk over the whole graph). The tracker's next frame reports both at once.
+  const std::vector<KeyframeId> ids = graph_->ids();
+  apartAfterCorrection_ =
+      graph_->hopDistance(ids.front(), ids.back(), std::numeric_limits<int>::max()) < 0;
   tracker_.notifyMapCorrected();
 }
 

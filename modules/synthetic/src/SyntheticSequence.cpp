@@ -102,6 +102,9 @@ void SyntheticOptions::validate() const {
   if (firstFrames < 0 || firstFrames == 1)
     throw std::invalid_argument("first frames must be 0 (all) or at least 2, not " +
                                 std::to_string(firstFrames));
+  if (skipFrames < 0)
+    throw std::invalid_argument("skipped frames must be 0 or more, not " +
+                                std::to_string(skipFrames));
   if (width < 16 || height < 16 || width > 4096 || height > 4096)
     throw std::invalid_argument("image size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " is out of range (16..4096)");
@@ -141,6 +144,11 @@ void SyntheticOptions::enableHandHeldEffects() {
 SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_(options) {
   options_.validate();
   groundTruth_ = SyntheticTrajectory::generate(options_.trajectory, options_.frames);
+  if (size_t(options_.skipFrames) + 2 > groundTruth_.size())
+    throw std::invalid_argument("skipping " + std::to_string(options_.skipFrames) + " of the " +
+                                std::to_string(groundTruth_.size()) +
+                                " frames of the path leaves fewer than 2");
+  groundTruth_.erase(groundTruth_.begin(), groundTruth_.begin() + options_.skipFrames);
   if (options_.firstFrames > 0 && size_t(options_.firstFrames) < groundTruth_.size())
     groundTruth_.resize(size_t(options_.firstFrames));
   poseAt_ = SyntheticTrajectory::shape(options_.trajectory, options_.frames);
@@ -236,24 +244,25 @@ void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw,
   if (i >= size())
     throw std::out_of_range("synthetic frame " + std::to_string(i) + " of " +
                             std::to_string(size()));
+  const size_t p = i + size_t(options_.skipFrames);  // on the whole path
   const double depthFrame =
-      i + options_.depthTimeOffsetMs * SyntheticTrajectory::kFrameRate / 1000.0;
+      p + options_.depthTimeOffsetMs * SyntheticTrajectory::kFrameRate / 1000.0;
   const bool separateDepth = options_.motionEffects() || options_.depthTimeOffsetMs != 0;
   cv::Mat colour, depth, unused;
   renderer_->render(scene_->scene(), separateDepth ? poseAt_(depthFrame) : groundTruth_[i].pose,
                     colour, depth);
   if (options_.motionEffects())
-    colour = renderMotion(i);
+    colour = renderMotion(p);
   else if (separateDepth)
     renderer_->render(scene_->scene(), groundTruth_[i].pose, colour, unused);
   // Gain, then 8 bits (saturating at white).
-  colour.convertTo(bgr, CV_8UC3, exposureGain(i));
+  colour.convertTo(bgr, CV_8UC3, exposureGain(p));
   if (kinectTwinDepthRaw) {
     if (options_.kinectDepth)
       throw std::logic_error("synthetic sequence: a Kinect twin of Kinect depth was asked for");
-    *kinectTwinDepthRaw = measuredDepth(i, depth, true);
+    *kinectTwinDepthRaw = measuredDepth(p, depth, true);
   }
-  depthRaw = measuredDepth(i, depth, options_.kinectDepth);
+  depthRaw = measuredDepth(p, depth, options_.kinectDepth);
 }
 
 cv::Mat SyntheticSequence::measuredDepth(size_t i, const cv::Mat& exactDepth, bool kinect) const {

@@ -61,6 +61,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   r.timestamp = frame.timestamp();
   if (corrected_.exchange(false)) {
     r.loopCorrected = true;
+    globalPoolKeyframes_ = 0;  // its points are where the keyframes were
     if (graph_->contains(lastReference_))
       lastPose_ = orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
   }
@@ -107,7 +108,16 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (enoughFeatures) registration = registerByFeatures(pool, frame, features, r);
   if (!registration && depthOnlyPossible)
     registration = registerByDepthOnly(frame, std::move(features), r);
-  if (!registration) return lostBecause(r.lostReason);
+  if (!registration) {
+    // Started from a saved map that does not show this place: map on alone rather than wait.
+    const bool alone = !trackedOnce_ && options_.newComponentAfter > 0 && enoughFeatures &&
+                       framesLost_ + 1 >= static_cast<size_t>(options_.newComponentAfter);
+    if (!alone) return lostBecause(r.lostReason);
+    r = initialize(frame, std::move(features), r, newComponentOrigin());
+    r.newComponent = true;
+    r.timings.total = msSince(start);
+    return r;
+  }
   r.status = TrackingStatus::Tracked;
   r.lostReason.clear();
 
@@ -126,6 +136,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   lastReference_ = r.reference;
   lastPoseInReference_ = r.poseInReference;
   lost_ = false;
+  trackedOnce_ = true;
   framesLost_ = 0;
   r.timings.total = msSince(start);
   return r;
@@ -301,22 +312,40 @@ const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResu
   return globalPool_;
 }
 
-TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features,
-                                   TrackingResult r) {
+TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r,
+                                   const Pose& origin) {
   // The first frame defines the world: its optical frame, so x-z is the ground-parallel plane.
-  const KeyframeId id = addKeyframe(frame, FeatureSet(features), Pose::Identity());
+  // A new component's world is that one moved beside the map.
+  const KeyframeId id = addKeyframe(frame, FeatureSet(features), origin);
   timing_.mapStarted(id, frame, features);
   r.status = TrackingStatus::Initialized;
-  r.pose = Pose::Identity();
+  r.pose = origin;
   r.reference = id;
+  r.poseInReference = Pose::Identity();
   r.newKeyframe = true;
   r.keyframeId = id;
   r.features = graph_->keyframe(id)->features.size();
-  lastPose_ = Pose::Identity();
+  r.lostReason.clear();
+  lastPose_ = origin;
   lastReference_ = id;
+  lastPoseInReference_ = Pose::Identity();
   lost_ = false;
+  trackedOnce_ = true;
+  framesLost_ = 0;
+  matchingWholeMap_ = false;
   poolDirty_ = true;
   return r;
+}
+
+Pose Tracker::newComponentOrigin() const {
+  // Along x, past the map's farthest keyframe by ten window sides: the new component's camera
+  // would have to walk that far back before its window reached another component.
+  double farthest = 0;
+  for (const auto& [id, pose] : graph_->poses())
+    farthest = std::max(farthest, pose.translation().x());
+  Pose origin = Pose::Identity();
+  origin.translation().x() = farthest + 10 * options_.localMap.windowSize;
+  return origin;
 }
 
 KeyframeId Tracker::addKeyframe(const RgbdFrame& frame, FeatureSet&& features, const Pose& pose) {

@@ -43,6 +43,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
           "keyframe_overlap must be in [0, 1]");
   require(culling.redundantShare >= 0 && culling.redundantShare <= 1,
           "keyframe_cull_share must be in [0, 1]");
+  require(newComponentAfter >= 0, "new_component_after must be >= 0 (0: never)");
   require(culling.minObservers >= 1, "keyframe_cull_observers must be >= 1");
 }
 

@@ -27,6 +27,10 @@ struct LivePose {
   /// A loop correction (place recognition) moved the map since the previous pose: this pose may
   /// jump by what the correction removed, and earlier poses moved with the map.
   bool loopCorrected = false;
+  /// The pose is in a component of the map not joined to the map's first keyframe (the session
+  /// started where its loaded map does not reach): its own frame, placed beside the map, until
+  /// place recognition joins it (a loopCorrected pose).
+  bool separateComponent = false;
   double latencyMs = 0;  ///< from the frame's grab to this pose (queueing included)
 };
 

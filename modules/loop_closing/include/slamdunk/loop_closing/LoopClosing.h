@@ -17,10 +17,13 @@ namespace slamdunk {
 
 struct LoopClosingStatistics {
   size_t loops = 0;                  ///< loops accepted and corrected
+  size_t joins = 0;                  ///< of those, loops that joined two components of the map
   size_t candidatesVerified = 0;     ///< keyframes checked by matching and RANSAC
   std::vector<double> detectionMs;   ///< one per keyframe looked up
   std::vector<double> correctionMs;  ///< one per corrected loop
-  double maxCorrection = 0;          ///< metres: largest keyframe move of a correction
+  /// Metres: largest keyframe move of a correction (the pose graph's, after a join has moved
+  /// the newer component rigidly onto the older).
+  double maxCorrection = 0;
 };
 
 class LoopClosing {
@@ -39,6 +42,11 @@ class LoopClosing {
   const LoopClosingOptions& options() const { return options_; }
 
  private:
+  /// A loop between two unconnected components: the one whose keyframes are newer moves
+  /// rigidly to where the loop puts it, in the older one's frame (a loaded map keeps its own),
+  /// before the pose graph spreads what is left.
+  void joinComponents(const LoopHypothesis& loop);
+
   LoopClosingOptions options_;
   LocalOptimizerOptions optimizer_;
   EdgeInformation edgeInformation_;

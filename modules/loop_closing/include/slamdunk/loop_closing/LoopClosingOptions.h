@@ -35,6 +35,10 @@ struct LoopClosingOptions : public mrpt::config::CLoadableOptions {
   /// between its two ends, plus 0.1 m: odometry drifts by a few percent, and a place that looks
   /// the same farther away than that (a second identical room) is another place.
   double maxDriftShare = 0.1;
+  /// A loop between two unconnected components of the map (a session that started where the
+  /// loaded map does not reach) has no path to bound its correction: it joins them once this
+  /// many consecutive keyframes agree.
+  int joinConsistentKeyframes = 3;
   RansacOptions ransac;  ///< the tracker's ([tracker] ransac_*)
   PoseGraphOptions poseGraph;
 
@@ -54,6 +58,7 @@ struct LoopClosingOptions : public mrpt::config::CLoadableOptions {
     k("consistency_translation", o.consistencyTranslation);
     k("consistency_angle_deg", o.consistencyAngleDeg);
     k("max_drift_share", o.maxDriftShare);
+    k("join_consistent_keyframes", o.joinConsistentKeyframes);
     k("pose_graph_translation_sigma", o.poseGraph.translationSigma);
     k("pose_graph_rotation_sigma", o.poseGraph.rotationSigma);
   }

@@ -24,6 +24,8 @@ struct LoopHypothesis {
   Pose T_candidate_query = Pose::Identity();  ///< measured by RANSAC on the matches
   std::vector<Match> inliers;
   double score = 0;  ///< the index's similarity of the two
+  /// The two keyframes were in unconnected components of the map: the loop joins them.
+  bool joins = false;
 };
 
 class PlaceRecognition {

@@ -12,6 +12,7 @@
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include <atomic>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -77,6 +78,9 @@ struct SlamStatistics {
   size_t trackedDepthOnly = 0;       ///< of the tracked frames, those registered by depth alone
   size_t optimizations = 0;
   size_t relocalizations = 0;  ///< frames registered against the whole map after being lost
+  /// Times a session from a saved map, not relocalized in it, started a new component of the
+  /// map (its joins with the rest are placeLoops.joins).
+  size_t componentsStarted = 0;
   /// Frames not processed because their timestamp was not after the previous frame's (a
   /// repeated or backward stamp), and the first few reasons, each naming the frame.
   size_t framesOutOfOrder = 0;
@@ -117,6 +121,10 @@ class SlamSystem {
   SlamStatistics statistics() const;
   const std::shared_ptr<KeyframeGraph>& graph() const { return graph_; }
   const SlamOptions& options() const { return options_; }
+  /// The camera maps a component not joined to the map's first keyframe: its poses are in that
+  /// component's own frame (TrackerOptions::newComponentAfter) until a join.
+  /// As of the last frame process() returned: call it from the thread that calls process().
+  bool inSeparateComponent() const { return separateComponent_; }
 
  private:
   /// The skip result for a frame whose timestamp does not increase, or nullopt.
@@ -136,6 +144,10 @@ class SlamSystem {
   size_t framesGiven_ = 0;         ///< every call of process(), skipped frames included
   size_t lastProcessedIndex_ = 0;  ///< of the last frame not skipped
   std::optional<double> lastProcessedTimestamp_;
+  bool separateComponent_ = false;  ///< as of the last frame tracked
+  /// Whether the newest keyframe was still apart from the first after the last correction (the
+  /// back end's finding, which the tracker's next frame makes its own).
+  std::atomic<bool> apartAfterCorrection_{false};
 
   mutable std::mutex statsMutex_;
   std::unique_ptr<LoopClosing> loopClosing_;  ///< null when [loop_closing] enabled = false

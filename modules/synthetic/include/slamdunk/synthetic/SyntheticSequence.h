@@ -31,6 +31,10 @@ struct SyntheticOptions {
   /// Only the first N of those frames (0 = all): the start of a long path at its own speed,
   /// e.g. 20 s of the 2.5-minute scan for a short test.
   int firstFrames = 0;
+  /// Leaves out the path's first N frames (before firstFrames counts): a sequence that starts
+  /// partway, its frames identical to the whole path's and stamped as there (two sessions of
+  /// one walk share one ground truth).
+  int skipFrames = 0;
   unsigned seed = 1;  ///< selects the textures (and the depth noise)
   int width = 640, height = 480;
   double fx = 525, fy = 525, cx = 319.5, cy = 239.5;
@@ -89,8 +93,8 @@ class SyntheticSequence {
   const SyntheticOptions& options() const { return options_; }
   const SyntheticScene& scene() const { return *scene_; }
 
-  /// The auto-exposure gain applied to frame i's colour (1 without autoExposure): a slow
-  /// random-looking drift between about 0.6 and 1.5, seeded.
+  /// The auto-exposure gain applied to the colour of the path's frame i (skipped frames count;
+  /// 1 without autoExposure): a slow random-looking drift between about 0.6 and 1.5, seeded.
   double exposureGain(size_t i) const;
 
   /// Frame i as an observation (colour and depth in memory). With kinectTwin (only for a

@@ -58,7 +58,11 @@ struct TrackingResult {
   bool loopCorrected = false;
   /// Keyframes the new one made redundant, culled from the map (KeyframeCulling).
   std::vector<KeyframeId> culledKeyframes;
-  bool relocalized = false;   ///< registered against the whole map after being lost
+  bool relocalized = false;  ///< registered against the whole map after being lost
+  /// Not relocalized in a loaded map for TrackerOptions::newComponentAfter frames: this frame
+  /// started a new component of the map (status Initialized), beside the loaded one until place
+  /// recognition joins the two.
+  bool newComponent = false;
   bool depthOnly = false;     ///< registered by depth alone (the features did not register)
   bool skipped = false;       ///< not processed (SlamSystem): its timestamp did not increase
   KeyframeId keyframeId = 0;  ///< id of the new keyframe, if any
@@ -115,7 +119,13 @@ class Tracker {
   double rollingShutterMs() const { return timing_.rollingShutterMs(); }
 
  private:
-  TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r);
+  /// The frame's features become the first keyframe of a map, or of a new component of it, at
+  /// `origin`.
+  TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r,
+                            const Pose& origin = Pose::Identity());
+  /// Where a new component's first keyframe goes: beside the whole map, far enough that the
+  /// component's active window never holds another component's keyframes.
+  Pose newComponentOrigin() const;
   /// The pool this frame is matched against: the local window (asked for again after a new
   /// keyframe or an optimization), or the whole map while a relocalized camera waits for it.
   const FeaturePool& poolForFrame(const RgbdFrame& frame, TrackingResult& r);
@@ -163,6 +173,7 @@ class Tracker {
   KeyframeId lastReference_ = 0;                 ///< of the last tracked frame
   Pose lastPoseInReference_ = Pose::Identity();  ///< the last tracked frame's, in lastReference_
   bool lost_ = false;
+  bool trackedOnce_ = false;  ///< a frame of this session was tracked (or started the map)
   bool poolDirty_ = false;
   /// Relocalized, and the window around the new pose is not handed over yet: frames are matched
   /// against the whole map meanwhile (and spawn no keyframe).

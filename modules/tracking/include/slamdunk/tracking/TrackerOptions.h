@@ -33,7 +33,12 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   int edgeMinMatches = 5;       ///< fewer inlier matches with a keyframe make no graph edge
   int minFeatures = 20;         ///< fewer features with depth: the frame cannot be tracked
   int relocalizeAfter = 1;      ///< lost frames before the whole map is searched as well
-  int relocalizeMinInliers = 20;    ///< stricter than min_inliers: the whole map can alias
+  int relocalizeMinInliers = 20;  ///< stricter than min_inliers: the whole map can alias
+  /// Frames a session started from a saved map waits to relocalize in it (the map may not show
+  /// this place) before it maps on its own: a new component of the map, not connected to the
+  /// rest until place recognition joins them (0 = keep waiting). A camera that tracked and then
+  /// lost its way keeps waiting to relocalize: its trajectory stays in one frame.
+  int newComponentAfter = 30;
   double maxTranslationJump = 0.5;  ///< metres between consecutive tracked frames (not when lost)
   bool keepKeyframeImages = false;  ///< store colour+depth in keyframes for dense outputs
   bool weightedRefit = true;        ///< final pose fit weighs pairs by their depth noise
@@ -99,6 +104,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
     k("min_features", o.minFeatures);
     k("relocalize_after", o.relocalizeAfter);
     k("relocalize_min_inliers", o.relocalizeMinInliers);
+    k("new_component_after", o.newComponentAfter);
     k("max_translation_jump", o.maxTranslationJump);
     k("keep_keyframe_images", o.keepKeyframeImages);
     k("weighted_refit", o.weightedRefit);
