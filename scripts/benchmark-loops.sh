@@ -9,7 +9,7 @@
 # tracking p95 over the run and over the 30 frames before the correction reached the tracker.
 #   scripts/benchmark-loops.sh [RUNS]          (default 3; needs a built tree: scripts/build.sh)
 #   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (CI's short version only)
-#   PARTS="sessions" scripts/benchmark-loops.sh         (some of: drift live sessions; default all)
+#   PARTS="sessions" scripts/benchmark-loops.sh   (some of: drift live sessions aliasing; default all)
 # tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
 # walking pace (about a minute to render, once).
 # Then two sessions of one walk (exact depth): the first maps part of the tour, the second starts
@@ -17,6 +17,9 @@
 # joined map's keyframes are from the ground truth in the first session's frame
 # (scripts/map-frame-error.py). tour_session: CI's pair (three times walking pace);
 # tour_session_full: the same stretches at walking pace.
+# Last, aliasing: the tour through the office whose room C is a copy of room A (--twin-rooms),
+# with the drift guard and without it (max_drift_share = 100), and two sessions there (the
+# corridor from D into A, then the corridor from B into C): loops and joins accepted and refused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -38,6 +41,16 @@ session tour_session1 1100 250 250
 session tour_session2 1100 100 300
 session tour_session_full1 3300 750 750
 session tour_session_full2 3300 300 900
+twins() {  # twins NAME [SYNTHETIC-RGBD ARGS]: the office with twin rooms
+  local name=$1
+  shift
+  [ -f "$work/$name.rawlog" ] ||
+    "$bin/synthetic-rgbd" "$work/$name.rawlog" --trajectory tour --frames 1100 --twin-rooms "$@" \
+      --external-images --jpeg-quality 95 --supersampling 1 -q >/dev/null
+}
+twins tour_twins
+twins tour_twins_session1 --skip-frames 900
+twins tour_twins_session2 --skip-frames 350 --first-frames 200
 printf '[loop_closing]\nenabled = false\n' >"$work/loops-local.ini"
 printf '[slam]\noptimizer_thread = true\n' >"$work/loops-thread.ini"
 printf '[loop_closing]\nenabled = false\n[slam]\noptimizer_thread = true\n' \
@@ -64,7 +77,7 @@ PY
 
 keys=(ate_rmse_m place_loops place_lookup_ms_p50 place_lookup_ms_max loop_correction_ms_max
   optimizer_share)
-parts=${PARTS:-drift live sessions}
+parts=${PARTS:-drift live sessions aliasing}
 part() { [[ " $parts " == *" $1 "* ]]; }
 
 for name in ${SEQUENCES:-tour_drift tour_drift_full}; do
@@ -136,3 +149,29 @@ for pair in tour_session tour_session_full; do
         "${second}_groundtruth.txt")"
   done
 done
+
+# Aliasing: the twin rooms, one session and two.
+if part aliasing; then
+  printf '[loop_closing]\nmax_drift_share = 100\n' >"$work/loops-unguarded.ini"
+  echo "## tour_twins: room C a copy of room A"
+  for mode in guarded unguarded; do
+    ini=config-ini/slamdunk-default.ini
+    [ $mode = unguarded ] && ini=$work/loops-unguarded.ini
+    out=$work/loops-twins-$mode
+    "$bin/slamdunk-rawlog" "$work/tour_twins.rawlog" --config "$ini" --trajectory "$out.txt" \
+      --gt "$work/tour_twins_groundtruth.txt" --json -q >"$out.json"
+    echo "$mode: place_loops $(field place_loops "$out.json"), candidates verified" \
+      "$(field place_candidates_verified "$out.json"), refused" \
+      "$(field place_candidates_refused "$out.json"), ate_rmse_m $(field ate_rmse_m "$out.json")"
+  done
+  echo "## tour_twins sessions: the second walks into A's copy"
+  "$bin/slamdunk-rawlog" "$work/tour_twins_session1.rawlog" --trajectory "$work/twins-first.txt" \
+    -q --save-map "$work/twins-first.map" >/dev/null
+  out=$work/loops-twins-sessions
+  "$bin/slamdunk-rawlog" "$work/tour_twins_session2.rawlog" --trajectory "$out.txt" --json -q \
+    --load-map "$work/twins-first.map" >"$out.json"
+  echo "components_started $(field components_started "$out.json"), joined" \
+    "$(field components_joined "$out.json"), joins refused" \
+    "$(field component_joins_refused "$out.json"), relocalizations" \
+    "$(field relocalizations "$out.json")"
+fi

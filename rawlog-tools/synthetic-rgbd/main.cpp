@@ -54,6 +54,11 @@ int main(int argc, char** argv) {
         "leave out the path's first N frames (before --first-frames counts): a second session "
         "of the same walk, its frames and stamps as in the whole path",
         false, 0, "N", cmd);
+    TCLAP::SwitchArg argTwinRooms(
+        "", "twin-rooms",
+        "tour: the office's room C built as a copy of room A (its walls and boxes, turned half a "
+        "turn): the same views in two rooms 20 m apart",
+        cmd);
     TCLAP::ValueArg<unsigned> argSeed("s", "seed", "texture (and depth noise) seed", false, 1, "S",
                                       cmd);
     TCLAP::ValueArg<std::string> argGt(
@@ -122,6 +127,7 @@ int main(int argc, char** argv) {
     opts.frames = argFrames.getValue();
     opts.firstFrames = argFirstFrames.getValue();
     opts.skipFrames = argSkipFrames.getValue();
+    opts.twinRooms = argTwinRooms.getValue();
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
     opts.kinectDepth = argKinect.getValue();

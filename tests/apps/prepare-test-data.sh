@@ -94,6 +94,16 @@ start_job synthetic tour_session1 tour --frames 1100 --skip-frames 250 --first-f
   --external-images --jpeg-quality 95 --supersampling 1
 start_job synthetic tour_session2 tour --frames 1100 --skip-frames 100 --first-frames 300 \
   --external-images --jpeg-quality 95 --supersampling 1
+# The tour through an office whose room C is a copy of room A (--twin-rooms): the same views
+# 20 m apart, which must not be taken for a loop.
+start_job synthetic tour_twins tour --frames 1100 --twin-rooms --external-images \
+  --jpeg-quality 95 --supersampling 1
+# Two sessions there: the first walks the corridor from D into A, the second the corridor from
+# B into C, the same walk turned half a turn; C must not be joined to A.
+start_job synthetic tour_twins_session1 tour --frames 1100 --twin-rooms --skip-frames 900 \
+  --external-images --jpeg-quality 95 --supersampling 1
+start_job synthetic tour_twins_session2 tour --frames 1100 --twin-rooms --skip-frames 350 \
+  --first-frames 200 --external-images --jpeg-quality 95 --supersampling 1
 start_job convert fr1_xyz_400f tum/fr1_xyz_400f tum-fr1.ini
 # The same hand at a third and a sixth of the frame rate: three and six times the motion between
 # frames.

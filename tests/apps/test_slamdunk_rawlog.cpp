@@ -174,6 +174,24 @@ TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
   EXPECT_LT(thread.value("ate_rmse_m"), 0.5 * local.value("ate_rmse_m")) << thread.result.output;
 }
 
+// The office tour with room C built as a copy of room A: the tour sees the same walls and
+// boxes in both rooms, 20 m apart. Place recognition verifies loops between them, and the
+// drift guard refuses every one; without it they would be taken for one place.
+TEST(SlamdunkRawlogLoops, TwinRoomsAreNotTakenForOnePlace) {
+  REQUIRE_RAWLOG(rawlog, "tour_twins");
+  const SlamRun r = runSlam(rawlog, test::scratchDir("Loops_Twins"));
+  expectEveryFrameTracked(r, 1100, 0.03);
+  EXPECT_EQ(r.value("place_loops"), 0) << r.result.output;
+  EXPECT_GE(r.value("place_candidates_refused"), 5) << "the twin rooms no longer look alike";
+
+  const std::string dir = test::scratchDir("Loops_Twins_NoGuard");
+  const SlamRun unguarded =
+      runSlam(rawlog, dir, configWith(dir, "[loop_closing]\nmax_drift_share = 100\n"));
+  ASSERT_EQ(unguarded.result.exitCode, 0) << unguarded.result.output;
+  EXPECT_GE(unguarded.value("place_loops"), 1) << "the test no longer tempts a false loop";
+  EXPECT_GT(unguarded.value("ate_rmse_m"), 1.0) << unguarded.result.output;
+}
+
 TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   expectAllTrackedWithin(rawlog, "Slam_SyntheticSweep", 0.005);
@@ -773,6 +791,19 @@ std::pair<double, double> worstKeyframeErrorInMapFrame(const Trajectory& keyfram
   return {metres, degrees};
 }
 
+/// Maps `first` and saves the map in dir/first.map, then runs `second` from it (in
+/// dir/second, with `extra` arguments); both must exit 0.
+std::pair<SlamRun, SlamRun> twoSessions(const std::string& first, const std::string& second,
+                                        const std::string& dir, const std::string& extra = "") {
+  SlamRun a = runSlam(first, dir, "--save-map " + q(dir + "/first.map"));
+  EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
+  const std::string secondDir = dir + "/second";
+  fs::create_directories(secondDir);
+  SlamRun b = runSlam(second, secondDir, "--load-map " + q(dir + "/first.map") + " " + extra);
+  EXPECT_EQ(b.result.exitCode, 0) << b.result.output;
+  return {a, b};
+}
+
 }  // namespace
 
 // A second session starts where the first session's map does not reach: it maps on its own (a
@@ -782,14 +813,9 @@ TEST(SlamdunkRawlogMaps, ASecondSessionOutsideTheMapJoinsIt) {
   REQUIRE_RAWLOG(first, "tour_session1");
   REQUIRE_RAWLOG(second, "tour_session2");
   const std::string dir = test::scratchDir("SlamMaps_Join");
-  const SlamRun a = runSlam(first, dir, "--save-map " + q(dir + "/first.map"));
-  ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
-  const std::string secondDir = dir + "/second";
-  fs::create_directories(secondDir);
-  const SlamRun b =
-      runSlam(second, secondDir,
-              "--load-map " + q(dir + "/first.map") + " --save-map " + q(dir + "/joined.map") +
-                  " --keyframes " + q(dir + "/keyframes.txt"));
+  const auto [a, b] = twoSessions(
+      first, second, dir,
+      "--save-map " + q(dir + "/joined.map") + " --keyframes " + q(dir + "/keyframes.txt"));
   ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
   EXPECT_EQ(b.value("components_started"), 1) << b.result.output;
   EXPECT_EQ(b.value("components_joined"), 1) << b.result.output;
@@ -814,6 +840,21 @@ TEST(SlamdunkRawlogMaps, ASecondSessionOutsideTheMapJoinsIt) {
   ASSERT_EQ(c.result.exitCode, 0) << c.result.output;
   EXPECT_EQ(c.value("components_started"), 0) << c.result.output;
   EXPECT_LE(c.value("first_tracked_frame"), 5) << c.result.output;
+}
+
+// The twin office: the first session maps the corridor from D and room A, the second starts in
+// the corridor from B (not in the map: a second component) and walks into room C, A's copy.
+// Place recognition verifies joins from C's keyframes into A, and refuses them: where such a
+// join puts the corridor's keyframes, the map's keyframes of the other corridor see otherwise.
+TEST(SlamdunkRawlogMaps, ASessionInTheTwinOfAMappedRoomIsNotJoinedToIt) {
+  REQUIRE_RAWLOG(first, "tour_twins_session1");
+  REQUIRE_RAWLOG(second, "tour_twins_session2");
+  const SlamRun b = twoSessions(first, second, test::scratchDir("SlamMaps_TwinsJoin")).second;
+  ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
+  EXPECT_EQ(b.value("components_started"), 1) << b.result.output;
+  EXPECT_EQ(b.value("components_joined"), 0) << b.result.output;
+  EXPECT_EQ(b.value("relocalizations"), 0) << b.result.output;
+  EXPECT_GE(b.value("component_joins_refused"), 1) << "the twin rooms no longer tempt a join";
 }
 
 // In the map's frame the figure includes the first half's own drift (10.5 mm measured; 6.4 mm

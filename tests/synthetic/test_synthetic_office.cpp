@@ -154,6 +154,47 @@ TEST(FloorPlan, OfficeBoxesStandInsideClearOfTheWalls) {
   }
 }
 
+// Room C of the twin office is room A turned half a turn about the office's centre: every wall
+// of C repeats the texture of the A wall the turn brings onto it (same length, same ends), its
+// boxes are A's turned, and nothing else differs from the office.
+TEST(FloorPlan, TwinRoomsRepeatRoomATurnedHalfATurn) {
+  const FloorPlan office = FloorPlan::office();
+  const FloorPlan twins = FloorPlan::officeWithTwinRooms();
+  const auto c = OfficeLayout{}.roomCentres();
+  const Eigen::Vector2d centre = (c[0] + c[2]) / 2;
+  auto turned = [&](double x, double z) -> Eigen::Vector2d {
+    return 2 * centre - Eigen::Vector2d(x, z);
+  };
+  ASSERT_EQ(twins.walls.size(), office.walls.size());
+  int repeated = 0;
+  for (size_t i = 0; i < twins.walls.size(); ++i) {
+    const WallPanel& w = twins.walls[i];
+    EXPECT_EQ(w.x0, office.walls[i].x0);
+    EXPECT_EQ(w.z1, office.walls[i].z1);
+    if (w.textureOf < 0) continue;
+    ++repeated;
+    const WallPanel& a = twins.walls[size_t(w.textureOf)];
+    EXPECT_LT((turned(a.x0, a.z0) - Eigen::Vector2d(w.x0, w.z0)).norm(), 1e-9) << i;
+    EXPECT_LT((turned(a.x1, a.z1) - Eigen::Vector2d(w.x1, w.z1)).norm(), 1e-9) << i;
+    EXPECT_LT(std::abs(a.length() - w.length()), 1e-9) << i;
+  }
+  EXPECT_GE(repeated, 4) << "room C has at least four walls";
+  ASSERT_EQ(twins.boxes.size(), office.boxes.size());
+  for (size_t i = 0; i < twins.boxes.size(); ++i) {
+    const RoomBox& b = twins.boxes[i];
+    if (i < 16 || i >= 24) {
+      EXPECT_EQ(b.x, office.boxes[i].x) << i;
+      EXPECT_EQ(b.textureOf, -1) << i;
+      continue;
+    }
+    const RoomBox& a = twins.boxes[i - 16];
+    EXPECT_EQ(b.textureOf, static_cast<int>(i - 16));
+    EXPECT_LT((turned(a.x, a.z) - Eigen::Vector2d(b.x, b.z)).norm(), 1e-9) << i;
+    EXPECT_DOUBLE_EQ(b.yawDeg, a.yawDeg + 180) << i;
+    EXPECT_DOUBLE_EQ(b.baseY, a.baseY) << i;
+  }
+}
+
 TEST(RoundedLoop, RoundedSquare) {
   // 4 m square, corners rounded with 1 m arcs: 4 x 2 m straight + a full 1 m circle.
   const RoundedLoop square({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 1.0);

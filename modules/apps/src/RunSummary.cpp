@@ -126,8 +126,11 @@ void printTextSummary(const RunFigures& f) {
   std::printf("  loop closures:   %zu inferred, %zu by place recognition", s.loopClosures,
               places.loops);
   if (!places.detectionMs.empty())
-    std::printf(" (%zu candidates verified, look-up ms median %.1f max %.1f)",
-                places.candidatesVerified, median(places.detectionMs), maxOf(places.detectionMs));
+    std::printf(
+        " (%zu candidates verified, %zu of them refused as too far for drift, look-up ms "
+        "median %.1f max %.1f)",
+        places.candidatesVerified, places.candidatesRefused, median(places.detectionMs),
+        maxOf(places.detectionMs));
   if (places.loops > 0)
     std::printf(", corrected by up to %.3f m in %.0f ms at most", places.maxCorrection,
                 maxOf(places.correctionMs));
@@ -135,8 +138,8 @@ void printTextSummary(const RunFigures& f) {
   if (s.componentsStarted > 0)
     std::printf(
         "  map components:  %zu started (not relocalized in the loaded map), %zu joined by place "
-        "recognition\n",
-        s.componentsStarted, places.joins);
+        "recognition, %zu joins refused (the map's keyframes saw otherwise)\n",
+        s.componentsStarted, places.joins, places.joinsRefused);
   std::printf(
       "  camera learned:  rolling shutter %.1f ms, keypoints %.2f px, depth %.4f m at 1 m\n",
       s.rollingShutterMs, s.keypointNoise.pixelSigma, s.keypointNoise.depthSigmaQuadratic);

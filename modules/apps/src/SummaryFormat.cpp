@@ -50,12 +50,14 @@ void addSlamCounts(Json& json, const SlamStatistics& s) {
   json["loop_closures"] = s.loopClosures;
   json["place_loops"] = s.placeLoops.loops;
   json["place_candidates_verified"] = s.placeLoops.candidatesVerified;
+  json["place_candidates_refused"] = s.placeLoops.candidatesRefused;
   addMs(json, s.placeLoops.detectionMs,
         {{"place_lookup_ms_p50", Stat::median}, {"place_lookup_ms_max", Stat::max}});
   addMs(json, s.placeLoops.correctionMs, {{"loop_correction_ms_max", Stat::max}});
   json["loop_correction_max_m"] = rounded(s.placeLoops.maxCorrection, 4);
   json["components_started"] = s.componentsStarted;
   json["components_joined"] = s.placeLoops.joins;
+  json["component_joins_refused"] = s.placeLoops.joinsRefused;
   json["relocalizations"] = s.relocalizations;
   json["frames_out_of_order"] = s.framesOutOfOrder;
 }

@@ -28,6 +28,8 @@ std::vector<LoopHypothesis> LoopClosing::detect(KeyframeId id) {
   PlaceRecognition::Detection d = recognition_.keyframeAdded(*graph_, id);
   std::lock_guard lock(statsMutex_);
   stats_.candidatesVerified += d.candidatesVerified;
+  stats_.candidatesRefused += d.candidatesRefused;
+  stats_.joinsRefused += d.joinsRefused;
   stats_.detectionMs.push_back(msSince(t0));
   return std::move(d.accepted);
 }

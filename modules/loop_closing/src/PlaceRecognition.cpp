@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace slamdunk {
 
@@ -14,6 +15,11 @@ namespace {
 constexpr int kMaxLearningRows = 20000;
 /// Lloyd rounds per node of the words' tree: the clusters matter less than their number.
 constexpr int kLearningRounds = 5;
+/// A join is checked against the map's keyframes this close to where it puts the new
+/// component's keyframes: views this alike must match if the join is right.
+constexpr double kJoinCheckMetres = 0.3;
+constexpr double kJoinCheckDegrees = 15.0;
+constexpr int kJoinChecks = 8;  ///< at most this many keyframes of the new component checked
 }  // namespace
 
 PlaceRecognition::PlaceRecognition(const LoopClosingOptions& options) : options_(options) {
@@ -129,6 +135,37 @@ bool PlaceRecognition::plausibleDrift(const LoopHypothesis& h, const KeyframeGra
   return translationDistance(corrected, graph.pose(h.query)) <= 0.1 + options_.maxDriftShare * path;
 }
 
+bool PlaceRecognition::joinContradicted(const LoopHypothesis& h, const KeyframeGraph& graph) const {
+  const std::map<KeyframeId, int> joining = graph.rings(h.query, std::numeric_limits<int>::max());
+  const std::map<KeyframeId, Pose> poses = graph.poses();
+  const Pose toMap = poses.at(h.candidate) * h.T_candidate_query * poses.at(h.query).inverse();
+  int checked = 0, failed = 0;
+  for (const auto& [id, ring] : joining) {  // the oldest first: the farthest from the join
+    const Pose inMap = toMap * poses.at(id);
+    std::optional<KeyframeId> nearest;
+    double nearestMetres = kJoinCheckMetres;
+    for (const auto& [other, pose] : poses) {
+      if (joining.count(other) || rotationDistance(pose, inMap) * 180.0 / M_PI > kJoinCheckDegrees)
+        continue;
+      const double metres = translationDistance(pose, inMap);
+      if (metres <= nearestMetres) nearest = other, nearestMetres = metres;
+    }
+    const KeyframePtr mine = graph.keyframe(id);
+    const KeyframePtr theirs = nearest ? graph.keyframe(*nearest) : nullptr;
+    if (!mine || !theirs) continue;
+    ++checked;
+    const std::optional<LoopHypothesis> seen = verify(*mine, *theirs);
+    const Pose expected = poses.at(*nearest).inverse() * inMap;
+    if (!seen ||
+        translationDistance(seen->T_candidate_query, expected) > options_.consistencyTranslation ||
+        rotationDistance(seen->T_candidate_query, expected) * 180.0 / M_PI >
+            options_.consistencyAngleDeg)
+      ++failed;
+    if (checked == kJoinChecks) break;
+  }
+  return 3 * failed > checked;
+}
+
 PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph& graph,
                                                             KeyframeId id) {
   Detection d;
@@ -158,7 +195,10 @@ PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph&
     ++d.candidatesVerified;
     std::optional<LoopHypothesis> h = verify(*kf, *candidate);
     if (h) h->joins = graph.hopDistance(id, c, std::numeric_limits<int>::max()) < 0;
-    if (h && !h->joins && !plausibleDrift(*h, graph)) h.reset();
+    if (h && !h->joins && !plausibleDrift(*h, graph)) {
+      h.reset();
+      ++d.candidatesRefused;
+    }
     if (h && (!best || h->inliers.size() > best->inliers.size())) best = std::move(h);
   }
   index_.add(id, std::move(bag));
@@ -173,6 +213,11 @@ PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph&
       std::any_of(chain_.begin(), chain_.end(), [](const auto& h) { return h.joins; });
   const int needed = joins ? options_.joinConsistentKeyframes : options_.consistentKeyframes;
   if (static_cast<int>(chain_.size()) >= needed) {
+    if (joins && joinContradicted(chain_.back(), graph)) {
+      ++d.joinsRefused;
+      chain_.clear();
+      return d;
+    }
     d.accepted = std::move(chain_);
     chain_.clear();
   }

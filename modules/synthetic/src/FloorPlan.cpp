@@ -176,6 +176,52 @@ FloorPlan FloorPlan::office() {
   return plan;
 }
 
+FloorPlan FloorPlan::officeWithTwinRooms() {
+  const OfficeLayout o;
+  const auto c = o.roomCentres();
+  const Eigen::Vector2d centre = (c[0] + c[2]) / 2;
+  auto turned = [&](double x, double z) {
+    return Eigen::Vector2d(2 * centre.x() - x, 2 * centre.y() - z);
+  };
+  FloorPlan plan = office();
+  plan.name = "office with twin rooms";
+  const FloorArea& a = plan.areas[0];
+  const FloorArea& roomC = plan.areas[2];
+  auto onBoundary = [](const WallPanel& w, const FloorArea& area) {
+    const double x = (w.x0 + w.x1) / 2, z = (w.z0 + w.z1) / 2;
+    const double e = 1e-9;
+    const bool inside =
+        x >= area.xMin - e && x <= area.xMax + e && z >= area.zMin - e && z <= area.zMax + e;
+    return inside && (std::abs(x - area.xMin) < e || std::abs(x - area.xMax) < e ||
+                      std::abs(z - area.zMin) < e || std::abs(z - area.zMax) < e);
+  };
+  // Each wall of C repeats the wall of A that the turn brings onto it: the turn keeps a panel's
+  // direction as seen from the free space, so its texture runs the same way.
+  for (WallPanel& w : plan.walls) {
+    if (!onBoundary(w, roomC)) continue;
+    for (size_t i = 0; i < plan.walls.size(); ++i) {
+      const WallPanel& q = plan.walls[i];
+      if (!onBoundary(q, a)) continue;
+      if ((turned(q.x0, q.z0) - Eigen::Vector2d(w.x0, w.z0)).norm() < 1e-9 &&
+          (turned(q.x1, q.z1) - Eigen::Vector2d(w.x1, w.z1)).norm() < 1e-9)
+        w.textureOf = static_cast<int>(i);
+    }
+    if (w.textureOf < 0)
+      throw std::logic_error("office with twin rooms: a wall of room C has no twin in room A");
+  }
+  // Room C's boxes are officeBoxes()' 16-23 and A's 0-7: C's become A's, turned.
+  for (int i = 0; i < 8; ++i) {
+    RoomBox box = plan.boxes[size_t(i)];
+    const Eigen::Vector2d p = turned(box.x, box.z);
+    box.x = p.x();
+    box.z = p.y();
+    box.yawDeg += 180;
+    box.textureOf = i;
+    plan.boxes[size_t(16 + i)] = box;
+  }
+  return plan;
+}
+
 std::vector<std::string> FloorPlan::names() { return {"room", "office"}; }
 
 FloorPlan FloorPlan::named(const std::string& name) {

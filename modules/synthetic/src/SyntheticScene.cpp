@@ -226,9 +226,14 @@ SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
   const int wallTexelsHigh = texelsFor(plan_.floorY - plan_.ceilingY, kTexelMetres);
   // Walls: texture rows run downwards (+y) and columns to the right as seen from the free
   // space, so text on the walls reads normally.
+  // A surface that repeats another's texture still takes its own seed, so that the surfaces
+  // after it keep theirs.
+  const uint64_t firstWall = textureId + 1;
   for (const auto& w : plan_.walls) {
+    ++textureId;
+    const uint64_t seedOfWall = w.textureOf >= 0 ? firstWall + uint64_t(w.textureOf) : textureId;
     auto obj = texturedObject(
-        makeTexture(texelsFor(w.length(), kTexelMetres), wallTexelsHigh, ++textureId));
+        makeTexture(texelsFor(w.length(), kTexelMetres), wallTexelsHigh, seedOfWall));
     const TPoint3Df topLeft(float(w.x0), yc, float(w.z0)), topRight(float(w.x1), yc, float(w.z1));
     addQuad(*obj, topLeft, topRight, {topRight.x, yf, topRight.z}, {topLeft.x, yf, topLeft.z});
     scene.insert(obj);
@@ -253,7 +258,12 @@ SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
     }
   }
 
-  for (const auto& box : plan_.boxes) addBox(scene, box, makeTexture(1024, 512, ++textureId));
+  const uint64_t firstBox = textureId + 1;
+  for (const auto& box : plan_.boxes) {
+    ++textureId;
+    const uint64_t seedOfBox = box.textureOf >= 0 ? firstBox + uint64_t(box.textureOf) : textureId;
+    addBox(scene, box, makeTexture(1024, 512, seedOfBox));
+  }
 }
 
 }  // namespace slamdunk

@@ -102,6 +102,9 @@ void SyntheticOptions::validate() const {
   if (firstFrames < 0 || firstFrames == 1)
     throw std::invalid_argument("first frames must be 0 (all) or at least 2, not " +
                                 std::to_string(firstFrames));
+  if (twinRooms && SyntheticTrajectory::sceneOf(trajectory) != "office")
+    throw std::invalid_argument("twin rooms are the office's: trajectory 'tour' only, not '" +
+                                trajectory + "'");
   if (skipFrames < 0)
     throw std::invalid_argument("skipped frames must be 0 or more, not " +
                                 std::to_string(skipFrames));
@@ -152,9 +155,10 @@ SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_
   if (options_.firstFrames > 0 && size_t(options_.firstFrames) < groundTruth_.size())
     groundTruth_.resize(size_t(options_.firstFrames));
   poseAt_ = SyntheticTrajectory::shape(options_.trajectory, options_.frames);
+  const std::string scene = SyntheticTrajectory::sceneOf(options_.trajectory);
   scene_ = std::make_unique<SyntheticScene>(
-      FloorPlan::named(SyntheticTrajectory::sceneOf(options_.trajectory)), options_.seed,
-      options_.ceiling);
+      options_.twinRooms ? FloorPlan::officeWithTwinRooms() : FloorPlan::named(scene),
+      options_.seed, options_.ceiling);
   renderer_ = std::make_unique<SyntheticRenderer>(options_.intrinsics(), options_.supersampling);
 }
 

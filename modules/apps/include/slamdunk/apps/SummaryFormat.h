@@ -37,8 +37,9 @@ void addMs(Json& json, const std::vector<double>& ms,
 
 /// Adds what both apps count of the map and the frames: tracked_depth_only, keyframes,
 /// optimizations, loop_closures, relocalizations, frames_out_of_order, and place recognition's
-/// place_loops, place_candidates_verified, place_lookup_ms_p50 / _max, loop_correction_ms_max,
-/// loop_correction_max_m, and the map's components_started and components_joined.
+/// place_loops, place_candidates_verified / _refused, place_lookup_ms_p50 / _max,
+/// loop_correction_ms_max, loop_correction_max_m, and the map's components_started,
+/// components_joined and component_joins_refused.
 void addSlamCounts(Json& json, const SlamStatistics& s);
 /// Adds ate_rmse_m, ate_mean_m, ate_median_m, ate_max_m and ate_pairs.
 void addAte(Json& json, const AteFigures& ate);

@@ -19,6 +19,8 @@ struct LoopClosingStatistics {
   size_t loops = 0;                  ///< loops accepted and corrected
   size_t joins = 0;                  ///< of those, loops that joined two components of the map
   size_t candidatesVerified = 0;     ///< keyframes checked by matching and RANSAC
+  size_t candidatesRefused = 0;      ///< of those, verified but farther than any drift
+  size_t joinsRefused = 0;           ///< joins the map's other keyframes contradicted
   std::vector<double> detectionMs;   ///< one per keyframe looked up
   std::vector<double> correctionMs;  ///< one per corrected loop
   /// Metres: largest keyframe move of a correction (the pose graph's, after a join has moved

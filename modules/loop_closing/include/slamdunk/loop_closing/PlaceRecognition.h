@@ -35,6 +35,12 @@ class PlaceRecognition {
   struct Detection {
     std::vector<LoopHypothesis> accepted;  ///< consistent loops of consecutive keyframes
     int candidatesVerified = 0;
+    /// Verified by RANSAC, but asking for a correction no odometry drifts into (another place
+    /// that looks the same).
+    int candidatesRefused = 0;
+    /// Joins of two components refused: where the join would put the new component's other
+    /// keyframes, the map's keyframes see something else (a repeated structure).
+    int joinsRefused = 0;
   };
   /// Keyframe `id`, just added to `graph`: looked up, then indexed. Most keyframes accept
   /// nothing.
@@ -51,6 +57,10 @@ class PlaceRecognition {
   bool agree(const LoopHypothesis& a, const LoopHypothesis& b, const KeyframeGraph& graph) const;
   /// Whether the correction the loop asks for is one odometry could have drifted into.
   bool plausibleDrift(const LoopHypothesis& h, const KeyframeGraph& graph) const;
+  /// Whether joining `h`'s components would put keyframes of the new one where the map's
+  /// keyframes, seeing from nearly the same pose, do not see the same (no path bounds a join,
+  /// so its other keyframes are the evidence).
+  bool joinContradicted(const LoopHypothesis& h, const KeyframeGraph& graph) const;
 
   LoopClosingOptions options_;
   PlaceIndex index_;

@@ -47,6 +47,9 @@ struct FloorArea {
 /// runs left to right as seen from the free space (the wall faces the viewer).
 struct WallPanel {
   double x0 = 0, z0 = 0, x1 = 0, z1 = 0;
+  /// Index in the plan's walls of a panel of the same length whose texture this one repeats
+  /// (a repeated structure); -1: its own texture.
+  int textureOf = -1;
   double length() const;
 };
 
@@ -56,6 +59,8 @@ struct RoomBox {
   double sizeX = 0.5, sizeY = 0.5, sizeZ = 0.5;  ///< sizeY is the height
   double yawDeg = 0;                             ///< rotation about the vertical axis
   double baseY = 1.3;  ///< y of the bottom face (floorY when on the floor)
+  /// Index in the plan's boxes of a box whose texture this one repeats; -1: its own texture.
+  int textureOf = -1;
 };
 
 struct FloorPlan {
@@ -73,6 +78,11 @@ struct FloorPlan {
   /// "office": OfficeLayout's four rooms and corridors in a ring (245 m² of floor, 149 m of
   /// walls), boxes in every room and corridor (the tour trajectory).
   static FloorPlan office();
+  /// "office" with room C built as a copy of room A turned half a turn about the office's
+  /// centre (the ring is symmetric under that turn): C's walls and boxes stand where A's do
+  /// seen from C, with A's textures. The tour sees the same views in A and in C: two identical
+  /// rooms 20 m apart, for testing that they are not taken for one place.
+  static FloorPlan officeWithTwinRooms();
   static std::vector<std::string> names();
   /// Throws std::invalid_argument for an unknown name.
   static FloorPlan named(const std::string& name);

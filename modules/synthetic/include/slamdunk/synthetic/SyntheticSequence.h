@@ -59,6 +59,8 @@ struct SyntheticOptions {
   int jpegQuality = 0;
   int supersampling = 3;  ///< colour anti-aliasing factor (odd), see SyntheticRenderer
   bool ceiling = true;
+  /// The office's room C a copy of room A (FloorPlan::officeWithTwinRooms): 'tour' only.
+  bool twinRooms = false;
 
   CameraIntrinsics intrinsics() const;        ///< the rendering's (the true camera)
   CameraIntrinsics statedIntrinsics() const;  ///< what the observations say (see above)
