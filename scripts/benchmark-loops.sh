@@ -11,7 +11,9 @@
 #   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (CI's short version only)
 #   PARTS="sessions" scripts/benchmark-loops.sh   (some of: drift live sessions aliasing; default all)
 # tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
-# walking pace (about a minute to render, once).
+# walking pace (about a minute to render, once); tour_drift_handheld: tour_drift with the
+# hand-held camera's effects too (motion blur, rolling shutter, auto exposure, depth 5 ms late;
+# several minutes to render, once).
 # Then two sessions of one walk (exact depth): the first maps part of the tour, the second starts
 # where that map does not reach and walks into it; prints whether it joined and how far the
 # joined map's keyframes are from the ground truth in the first session's frame
@@ -25,13 +27,17 @@ cd "$(dirname "$0")/.."
 runs=${1:-3}
 source scripts/lib/benchmark.sh
 
-render() {  # render NAME FRAMES
-  [ -f "$work/$1.rawlog" ] ||
-    "$bin/synthetic-rgbd" "$work/$1.rawlog" --trajectory tour --frames "$2" --kinect-depth \
-      --stated-focal-error 3 --external-images --jpeg-quality 95 --supersampling 1 -q >/dev/null
+render() {  # render NAME FRAMES [SYNTHETIC-RGBD ARGS]
+  local name=$1 frames=$2
+  shift 2
+  [ -f "$work/$name.rawlog" ] ||
+    "$bin/synthetic-rgbd" "$work/$name.rawlog" --trajectory tour --frames "$frames" "$@" \
+      --kinect-depth --stated-focal-error 3 --external-images --jpeg-quality 95 \
+      --supersampling 1 -q >/dev/null
 }
 render tour_drift 1100
 render tour_drift_full 3300
+render tour_drift_handheld 1100 --hand-held
 session() {  # session NAME FRAMES SKIP FIRST: a stretch of the tour, exact depth
   [ -f "$work/$1.rawlog" ] ||
     "$bin/synthetic-rgbd" "$work/$1.rawlog" --trajectory tour --frames "$2" --skip-frames "$3" \
@@ -80,7 +86,7 @@ keys=(ate_rmse_m place_loops place_lookup_ms_p50 place_lookup_ms_max loop_correc
 parts=${PARTS:-drift live sessions aliasing}
 part() { [[ " $parts " == *" $1 "* ]]; }
 
-for name in ${SEQUENCES:-tour_drift tour_drift_full}; do
+for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld}; do
   part drift || continue
   rawlog=$work/$name.rawlog gt=$work/${name}_groundtruth.txt
   echo "## $name ($runs runs)"
