@@ -62,21 +62,25 @@ printf '[slam]\noptimizer_thread = true\n' >"$work/loops-thread.ini"
 printf '[loop_closing]\nenabled = false\n[slam]\noptimizer_thread = true\n' \
   >"$work/loops-local-thread.ini"
 
-# p95 of ms_total over the 30 frames before each loop_corrected frame, and over all frames.
+# p95 of ms_total over all frames, and over the frames around each loop correction: from 30
+# frames before the first frame that reports it (loop_corrected) to 10 after. With a second
+# frame log (a run with loop closing), the frames around its corrections: the same frames of a
+# run without loop closing, for comparison (the return itself costs more: old keyframes enter
+# the pool).
 p95s() {
-  python3 - "$1" <<'PY'
+  python3 - "$1" "${2:-$1}" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
+reference = list(csv.DictReader(open(sys.argv[2])))
 ms = [float(r["ms_total"]) for r in rows if r["ms_total"]]
 def p95(v):
     v = sorted(v)
     if not v: return float("nan")
     k = 0.95 * (len(v) - 1); lo = int(k); hi = min(lo + 1, len(v) - 1)
     return v[lo] + (k - lo) * (v[hi] - v[lo])
-during = []
-for i, r in enumerate(rows):
-    if r.get("loop_corrected") == "1":
-        during += [float(x["ms_total"]) for x in rows[max(0, i - 30):i] if x["ms_total"]]
+corrected = [int(r["index"]) for r in reference if r.get("loop_corrected") == "1"]
+around = {i for c in corrected for i in range(c - 30, c + 11)}
+during = [float(r["ms_total"]) for r in rows if r["ms_total"] and int(r["index"]) in around]
 print("%.1f %.1f" % (p95(ms), p95(during)))
 PY
 }
@@ -90,8 +94,9 @@ for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld}; do
   part drift || continue
   rawlog=$work/$name.rawlog gt=$work/${name}_groundtruth.txt
   echo "## $name ($runs runs)"
-  printf "%-13s %3s %s return_m return_deg p95_ms p95_during_ms\n" mode run "${keys[*]}"
-  for mode in local global local-thread global-thread; do
+  printf "%-13s %3s %s return_m return_deg p95_ms p95_around_correction_ms\n" mode run \
+    "${keys[*]}"
+  for mode in global local global-thread local-thread; do
     ini=config-ini/slamdunk-default.ini
     case $mode in
       local) ini=$work/loops-local.ini ;;
@@ -105,15 +110,17 @@ for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld}; do
       read -r _ _ ret _ deg _ < <(python3 scripts/loop-return-error.py "$out.txt" "$gt" | tr -d ',')
       printf "%-13s %3d" "$mode" "$r"
       for k in "${keys[@]}"; do printf " %s" "$(field "$k" "$out.json")"; done
-      printf " %s %s %s\n" "$ret" "$deg" "$(p95s "$out.csv")"
-      echo "$ret $deg $(p95s "$out.csv")" >"$out.extra"
+      with=$out.csv  # the frames around the corrections of the run with loop closing
+      [[ $mode == local* ]] && with=$work/loops-$name-global${mode#local}-$r.csv
+      printf " %s %s %s\n" "$ret" "$deg" "$(p95s "$out.csv" "$with")"
+      echo "$ret $deg $(p95s "$out.csv" "$with")" >"$out.extra"
     done
     printf "%-13s med" "$mode"
     for k in "${keys[@]}"; do
-      printf " %s" "$(for f in "$work/loops-$name-$mode"-*.json; do field "$k" "$f"; done | median)"
+      printf " %s" "$(for f in "$work/loops-$name-$mode"-[0-9]*.json; do field "$k" "$f"; done | median)"
     done
     for col in 1 2 3 4; do
-      printf " %s" "$(for f in "$work/loops-$name-$mode"-*.extra; do cut -d' ' -f$col "$f"; done |
+      printf " %s" "$(for f in "$work/loops-$name-$mode"-[0-9]*.extra; do cut -d' ' -f$col "$f"; done |
         grep -v nan | median)"
     done
     echo
@@ -121,19 +128,26 @@ for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld}; do
   echo
 done
 
-# Live at 1x (slamdunk-live replaying CI's tour, back end on its thread): frames dropped, loops.
+# Live at 1x (slamdunk-live replaying CI's tour, back end on its thread): frames dropped, loops;
+# tracking p95 over the run and around the correction, then the same frames without loop
+# closing.
 part live || runs_live=0
 rawlog=$(realpath "$work/tour_drift.rawlog")
 printf '[slamdunk-live]\nsource = REPLAY\n[REPLAY]\ndriver = replay\nrawlog = %s\n' "$rawlog" \
   >"$work/loops-live.ini"
+printf '[pipeline.loop_closing]\nenabled = false\n' | cat "$work/loops-live.ini" - \
+  >"$work/loops-live-local.ini"
 part live && echo "## tour_drift live at 1x"
 for ((r = 1; r <= ${runs_live:-runs}; r++)); do
   out=$work/loops-live-$r
   "$bin/slamdunk-live" --config "$work/loops-live.ini" --trajectory "$out.txt" \
     --gt "${rawlog%.rawlog}_groundtruth.txt" --frame-log "$out.csv" --json -q >"$out.json"
+  "$bin/slamdunk-live" --config "$work/loops-live-local.ini" --trajectory "$out-local.txt" \
+    --frame-log "$out-local.csv" --json -q >"$out-local.json"
   echo "run $r: frames_dropped $(field frames_dropped "$out.json"), place_loops" \
     "$(field place_loops "$out.json"), ate_rmse_m $(field ate_rmse_m "$out.json"), tracking" \
-    "p95 / during the correction $(p95s "$out.csv") ms," \
+    "p95 over the run / around the correction $(p95s "$out.csv") ms, the same frames without" \
+    "loop closing $(p95s "$out-local.csv" "$out.csv") ms," \
     "$(python3 scripts/loop-return-error.py "$out.txt" "${rawlog%.rawlog}_groundtruth.txt")"
 done
 
