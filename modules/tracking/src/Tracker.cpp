@@ -163,6 +163,23 @@ std::optional<Registration> Tracker::registerByFeatures(const FeaturePool& pool,
   if (!startingFromMap) {
     Registration registration =
         registrar_.registerFrame(pool, frame, features, nullptr, timing_.velocityToEstimate());
+    if (!registration && !lost_ && graph_->contains(lastReference_)) {
+      // A pool holding keyframes far off where they should be (a drifted loop's first
+      // keyframes, before its correction) can outvote the rest: try the matches of the
+      // keyframes near the reference in the graph alone.
+      const std::map<KeyframeId, int> near =
+          graph_->rings(lastReference_, options_.loopHopThreshold);
+      std::vector<PoolMatch> nearMatches;
+      for (const PoolMatch& m : registration.matches)
+        if (near.count(pool.feature(m.pool).keyframe)) nearMatches.push_back(m);
+      if (nearMatches.size() < registration.matches.size() &&
+          static_cast<int>(nearMatches.size()) >= options_.ransac.minInliers) {
+        Registration retried = registrar_.registerFrame(pool, frame, features, &nearMatches,
+                                                        timing_.velocityToEstimate());
+        retried.matchingMs += registration.matchingMs;
+        if (retried) registration = std::move(retried);
+      }
+    }
     if (registration) {
       timing_.refine(registrar_, frame, registration);
       report(registration, r);
