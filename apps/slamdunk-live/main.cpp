@@ -72,6 +72,12 @@ int main(int argc, char** argv) {
                                         false, "", "OUT.map", cmd);
     TCLAP::ValueArg<std::string> argRender("", "render", "output picture of the map (PNG)", false,
                                            "", "OUT.png", cmd);
+    TCLAP::ValueArg<std::string> argGridMap(
+        "", "gridmap",
+        "output 2D occupancy grid a robot navigates on: PREFIX.gridmap (MRPT's "
+        "COccupancyGridMap2D), PREFIX.png and PREFIX.yaml (ROS map_server), at the end and in "
+        "each checkpoint; resolution and obstacle heights in the pipeline's [grid_map]",
+        false, "", "PREFIX", cmd);
     TCLAP::ValueArg<std::string> argRecord(
         "r", "record", "record the received frames to this rawlog (images embedded)", false, "",
         "OUT.rawlog", cmd);
@@ -127,6 +133,9 @@ int main(int argc, char** argv) {
           argKf.isSet() ? argKf.getValue() : keyframeTrajectoryPathFor(argTraj.getValue())},
          {"--map", argMap.getValue()},
          {"--render", argRender.getValue()},
+         {"--gridmap", argGridMap.isSet() ? argGridMap.getValue() + ".gridmap" : ""},
+         {"--gridmap", argGridMap.isSet() ? argGridMap.getValue() + ".png" : ""},
+         {"--gridmap", argGridMap.isSet() ? argGridMap.getValue() + ".yaml" : ""},
          {"--record", argRecord.getValue()},
          {"--frame-log", argFrameLog.getValue()}});
     if (argRender.isSet()) requireWritableFolder(argRender.getValue());
@@ -138,6 +147,7 @@ int main(int argc, char** argv) {
     session.trajectory = argTraj.getValue();
     session.keyframes = argKf.getValue();
     session.map = argMap.getValue();
+    session.gridMap = argGridMap.getValue();
     session.recording = argRecord.getValue();
     session.frameLog = argFrameLog.getValue();
     session.maxFrames = argMax.getValue();

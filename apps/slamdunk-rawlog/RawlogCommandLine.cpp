@@ -20,7 +20,8 @@ struct FileOption {
 
 const FileOption kFiles[] = {
     {"c", "config",
-     "pipeline INI (sections [features] [local_map] [tracker] [optimizer] [slam]); default: "
+     "pipeline INI (sections [features] [local_map] [tracker] [optimizer] [loop_closing] "
+     "[grid_map] [slam]); default: "
      "built-in values, the same as config-ini/slamdunk-default.ini",
      "PIPELINE.ini", &Run::configFile},
     {"t", "trajectory", "output TUM trajectory of all frames", "OUT.txt", &Run::trajectory, true},
@@ -41,6 +42,11 @@ const FileOption kFiles[] = {
      "write the dense reconstruction: PREFIX.ply and PREFIX.pcd (voxel-filtered coloured cloud) "
      "and PREFIX.ot / PREFIX.bt (OctoMap)",
      "PREFIX", &Run::dense},
+    {"", "gridmap",
+     "write the 2D occupancy grid a robot navigates on: PREFIX.gridmap (MRPT's "
+     "COccupancyGridMap2D), PREFIX.png and PREFIX.yaml (ROS map_server); floor, obstacle heights "
+     "and resolution in the INI's [grid_map]",
+     "PREFIX", &Run::gridMap},
     {"", "render", "render the map offscreen to a PNG (and a .3Dscene for SceneViewer3D)",
      "OUT.png", &Run::render},
     {"", "frame-log",

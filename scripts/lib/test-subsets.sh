@@ -8,5 +8,5 @@
 #     viewer's folders stay in the Release suite: some of their tests run there only (real time,
 #     whole sequences, the windows of both apps).
 # shellcheck disable=SC2034
-sanitized_test_dirs="core;tracking;optimization;loop_closing;graph;slam;fuzz;live;live-viewer"
-sanitized_only_test_dirs="core;tracking;optimization;loop_closing;graph;slam;fuzz"
+sanitized_test_dirs="core;tracking;optimization;loop_closing;graph;grid_map;slam;fuzz;live;live-viewer"
+sanitized_only_test_dirs="core;tracking;optimization;loop_closing;graph;grid_map;slam;fuzz"

@@ -4,6 +4,7 @@
 // test_slamdunk_live.cpp.)
 
 #include <slamdunk/core/RawlogReader.h>
+#include <slamdunk/grid_map/GridMapFiles.h>
 #include <slamdunk/live/CheckpointWriter.h>
 #include <slamdunk/live/LiveSlam.h>
 #include <slamdunk/live/PushFrameSource.h>
@@ -159,6 +160,41 @@ TEST(Checkpoints, EverySecondsAndReplacedInPlace) {
   EXPECT_GT(info.framesProcessed, 30u);
   EXPECT_EQ(readTumTrajectory(dir + "/cp/trajectory.txt").size(), info.framesTracked);
   EXPECT_TRUE(leftovers(dir).empty()) << leftovers(dir).front();
+}
+
+// A session asked for the occupancy grid writes it at the end, and each checkpoint holds the
+// grid of its own map: what the library makes of the checkpoint's map.map, cell for cell.
+TEST(Checkpoints, HoldTheOccupancyGridOfTheirMap) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("Checkpoints_GridMap");
+  auto frames = readFrames(rawlog);
+  frames.resize(150);
+  LiveOptions options;
+  options.checkpoint.everyKeyframes = 4;
+  options.checkpoint.everySeconds = 0;
+  LiveSession session;
+  session.trajectory = dir + "/run.txt";
+  session.gridMap = dir + "/grid";
+  auto source = std::make_unique<PushFrameSource>();
+  PushFrameSource& push = *source;
+  LiveSlam live(options, std::move(source), session);
+  const LiveResult result = runSession(live, push, frames);
+  ASSERT_TRUE(result.checkpoints);
+  EXPECT_TRUE(result.checkpoints->error.empty()) << result.checkpoints->error;
+  EXPECT_TRUE(result.outputFailures.empty()) << result.outputFailures.front();
+
+  const std::string folder = dir + "/run_checkpoint";
+  const CheckpointInfo info = CheckpointInfo::read(folder);
+  ASSERT_EQ(info.gridMap, "gridmap.gridmap");
+  const auto map = CKeyframeGraphMap::loadFromFile(folder + "/map.map");
+  const GridMap expected = GridMapBuilder(options.slam.gridMap).build(*map->graph());
+  EXPECT_EQ(readGridMap(folder + "/gridmap.gridmap").getRawMap(), expected.grid.getRawMap());
+  EXPECT_GT(expected.occupiedCells, 100u);
+  for (const char* ext : {".png", ".yaml"}) EXPECT_TRUE(fs::exists(folder + "/gridmap" + ext));
+
+  const GridMap last = GridMapBuilder(options.slam.gridMap).build(*result.graph);
+  EXPECT_EQ(readGridMap(dir + "/grid.gridmap").getRawMap(), last.grid.getRawMap());
+  for (const char* ext : {".png", ".yaml"}) EXPECT_TRUE(fs::exists(dir + "/grid" + ext));
 }
 
 TEST(Checkpoints, AKilledSessionsTemporaryFolderIsRemovedAtTheNextStart) {

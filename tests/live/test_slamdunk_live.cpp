@@ -4,6 +4,7 @@
 
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/grid_map/GridMapFiles.h>
 #include <slamdunk/live/CheckpointWriter.h>
 #ifdef SLAMDUNK_LIVE_TEST_MAPS
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
@@ -298,7 +299,7 @@ LiveRun interruptedRun(const std::string& rawlog, const std::string& dir, int si
   const std::string log = dir + "/output.txt";
   test::ChildProcess app({test::toolPath("slamdunk-live"), "--config",
                           replayIni(dir, rawlog, "checkpoint_every_seconds = 1"), "--trajectory",
-                          r.trajectory, "--map", r.map, "--json"},
+                          r.trajectory, "--map", r.map, "--gridmap", dir + "/grid", "--json"},
                          {}, log);
   EXPECT_TRUE(app.started());
   const auto midway = waitForCheckpoint(app, dir + "/trajectory_checkpoint", kFewestFrames);
@@ -335,6 +336,8 @@ void expectCompleteOutputs(const LiveRun& r) {
   ASSERT_TRUE(map && map->graph());
   EXPECT_EQ(map->graph()->keyframeCount(), r.value("keyframes"));
 #endif
+  const fs::path grid = fs::path(r.trajectory).parent_path() / "grid.gridmap";
+  EXPECT_GT(readGridMap(grid.string()).getSizeX(), 10u);
 }
 }  // namespace
 

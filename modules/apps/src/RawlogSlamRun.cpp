@@ -4,6 +4,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
+#include <slamdunk/grid_map/GridMapFiles.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 
@@ -56,10 +57,13 @@ RawlogSlamRun::RawlogSlamRun(RawlogRunOptions options) : options_(std::move(opti
                      {"--save-map", o.map},
                      {"--render", o.render},
                      {"--simplemap", o.simpleMap},
-                     {"--frame-log", o.frameLog}});
+                     {"--frame-log", o.frameLog},
+                     {"--gridmap", o.gridMap.empty() ? "" : o.gridMap + ".gridmap"},
+                     {"--gridmap", o.gridMap.empty() ? "" : o.gridMap + ".png"},
+                     {"--gridmap", o.gridMap.empty() ? "" : o.gridMap + ".yaml"}});
   // Fail on unwritable outputs before spending minutes on the run.
   for (const std::string& out :
-       {o.trajectory, o.keyframes, o.map, o.dense, o.render, o.simpleMap, o.frameLog})
+       {o.trajectory, o.keyframes, o.map, o.dense, o.render, o.simpleMap, o.frameLog, o.gridMap})
     if (!out.empty()) requireWritableFolder(out);
   if (!o.groundTruth.empty()) groundTruth_ = readTumTrajectory(o.groundTruth);
   if (!o.frameLog.empty()) {
@@ -138,6 +142,7 @@ std::string RawlogSlamRun::processFrames(RunFigures& fig) {
       pauseCallback_(fig.decodeMs.size());
       pausedSeconds_ += msSince(paused) / 1000.0;
     }
+    if (!sensorPose_) sensorPose_ = obs->sensorPose;  // on a robot: the grid's floor
     const TrackingResult r = slam_->process(*obs);
     if (frameCallback_) frameCallback_(*obs, r);
     obs->unload();
@@ -201,6 +206,20 @@ void RawlogSlamRun::writeOutputs(const Trajectory& trajectory) {
       } catch (const std::exception& e) {
         throw std::runtime_error(withTargetName(e.what(), stagedScene, scene));
       }
+    });
+  }
+  if (!o.gridMap.empty()) {
+    const std::string staged = outputs_.stagePrefix(o.gridMap, gridMapExtensions());
+    writeStaged(o.gridMap, staged, [&](const std::string&) {
+      const auto start = SteadyClock::now();
+      const GridMap grid = GridMapBuilder(o.slam.gridMap).build(graph, sensorPose_);
+      const double ms = msSince(start);
+      writeGridMap(grid, staged, std::filesystem::path(o.gridMap + ".png").filename().string());
+      say(
+          format("[slamdunk-rawlog] occupancy grid of %u x %u cells of %.2f m (%zu occupied, "
+                 "%zu free), made in %.0f ms, for %s.{gridmap,png,yaml}",
+                 grid.grid.getSizeX(), grid.grid.getSizeY(), grid.grid.getResolution(),
+                 grid.occupiedCells, grid.freeCells, ms, o.gridMap.c_str()));
     });
   }
   if (!o.simpleMap.empty())

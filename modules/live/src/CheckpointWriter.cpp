@@ -3,6 +3,7 @@
 
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/core/Stopwatch.h>
+#include <slamdunk/grid_map/GridMapFiles.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include <fcntl.h>
@@ -47,6 +48,7 @@ void writeInfo(const std::string& path, const CheckpointInfo& info) {
                 info.sequence, info.framesProcessed, info.framesTracked, info.keyframes,
                 info.lastFrameTimestamp, info.unixTime);
   f << buf;
+  if (!info.gridMap.empty()) f << "grid_map = " << info.gridMap << "\n";
   f.flush();
   if (!f) throw std::runtime_error("cannot write '" + path + "'");
 }
@@ -110,6 +112,7 @@ CheckpointInfo CheckpointInfo::read(const std::string& folder) {
   info.keyframes = static_cast<size_t>(number("keyframes"));
   info.lastFrameTimestamp = number("last_frame_timestamp");
   info.unixTime = number("unix_time");
+  if (const auto it = values.find("grid_map"); it != values.end()) info.gridMap = it->second;
   return info;
 }
 
@@ -187,6 +190,11 @@ void CheckpointWriter::writerLoop() {
 
 void CheckpointWriter::writeNow() { write(); }
 
+void CheckpointWriter::setSensorPose(const mrpt::poses::CPose3D& sensorPose) {
+  std::lock_guard lock(mutex_);
+  sensorPose_ = sensorPose;
+}
+
 void CheckpointWriter::write() {
   std::lock_guard writing(writeMutex_);
   const auto start = SteadyClock::now();
@@ -228,9 +236,24 @@ void CheckpointWriter::write() {
         copied_, *graph, [&](double t, const Pose& pose) { trajectory.add(t, pose); });
     trajectory.commit();
     writeTumTrajectory((dir / kKeyframesFile).string(), keyframes, what + ": keyframes");
+    std::vector<std::string> files{kMapFile, kTrajectoryFile, kKeyframesFile, kInfoFile};
+    if (gridMap_) {
+      std::optional<mrpt::poses::CPose3D> sensorPose;
+      {
+        std::lock_guard lock(mutex_);
+        sensorPose = sensorPose_;
+      }
+      try {
+        writeGridMap(GridMapBuilder(*gridMap_).build(*graph, sensorPose),
+                     (dir / kGridMapPrefix).string());
+        for (const std::string& ext : gridMapExtensions()) files.push_back(kGridMapPrefix + ext);
+        info.gridMap = kGridMapPrefix + gridMapExtensions().front();
+      } catch (const std::runtime_error& e) {
+        info.gridMap = std::string("none: ") + e.what();  // no floor seen yet, say
+      }
+    }
     writeInfo((dir / kInfoFile).string(), info);
-    for (const char* file : {kMapFile, kTrajectoryFile, kKeyframesFile, kInfoFile})
-      syncPath((dir / file).string(), false);
+    for (const std::string& file : files) syncPath((dir / file).string(), false);
     syncPath(dir.string(), true);
     out.commit();
     // The swap itself is an entry of the parent folder.

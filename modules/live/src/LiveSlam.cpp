@@ -1,6 +1,7 @@
 #include <slamdunk/live/LiveSlam.h>
 
 #include <slamdunk/core/AtomicOutput.h>
+#include <slamdunk/grid_map/GridMapFiles.h>
 
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
@@ -50,7 +51,7 @@ LiveSlam::LiveSlam(LiveOptions options, std::unique_ptr<FrameSource> source, Liv
   if (!session_.trajectory.empty() && session_.keyframes.empty())
     session_.keyframes = keyframeTrajectoryPathFor(session_.trajectory);
   for (const std::string& out : {session_.trajectory, session_.keyframes, session_.map,
-                                 session_.recording, session_.frameLog})
+                                 session_.recording, session_.frameLog, session_.gridMap})
     if (!out.empty()) requireWritableFolder(out);
   slam_ = std::make_unique<SlamSystem>(options_.slam, session_.startMap);
   if (!session_.recording.empty()) recorder_ = std::make_unique<RawlogRecorder>(session_.recording);
@@ -63,10 +64,12 @@ LiveSlam::LiveSlam(LiveOptions options, std::unique_ptr<FrameSource> source, Liv
           writeErrorMessage(session_.frameLog, e.what(), frameCsvOutput_->tempPath()));
     }
   }
-  if (const std::string folder = checkpointFolder(); !folder.empty())
+  if (const std::string folder = checkpointFolder(); !folder.empty()) {
     checkpoints_ =
         std::make_unique<CheckpointWriter>(options_.checkpoint, folder, slam_->graph(), frameLog_,
                                            "slamdunk live session, " + source_->describe());
+    if (!session_.gridMap.empty()) checkpoints_->setGridMap(options_.slam.gridMap);
+  }
   pipeline_ = std::make_unique<LivePipeline>(
       *source_, *slam_, options_.queueCapacity, recorder_.get(), session_.maxFrames,
       [this](const mrpt::obs::CObservation3DRangeScan& frame, const TrackingResult& r,
@@ -126,6 +129,10 @@ void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const 
     frameCsv_->add(r, FrameCsvLog::Grab{grabbed, latencyMs});
   }
   if (r.skipped) return;  // a timestamp that did not increase: not part of the trajectory
+  if (!sensorPose_) {
+    sensorPose_ = frame.sensorPose;  // the camera's mounting on a robot, for the grid's floor
+    if (checkpoints_) checkpoints_->setSensorPose(frame.sensorPose);
+  }
   if (checkpoints_) {
     frameLog_.revise(r.revisedFrames);
     frameLog_.append({r.timestamp, r.status, r.reference, r.poseInReference});
@@ -224,6 +231,10 @@ LiveResult LiveSlam::finish() {
     writeTumTrajectory(session_.keyframes, result.keyframes, what + ": keyframes");
   });
   outputs.attempt(session_.map, [&] { CKeyframeGraphMap(result.graph).saveToFile(session_.map); });
+  outputs.attempt(session_.gridMap, [&] {
+    writeGridMap(GridMapBuilder(options_.slam.gridMap).build(*result.graph, sensorPose_),
+                 session_.gridMap);
+  });
   if (recorder_) {
     outputs.attempt(session_.recording, [&] { recorder_->finish(); });
     result.recorded = recorder_->written();

@@ -11,8 +11,8 @@
 namespace slamdunk {
 
 namespace {
-const std::set<std::string> kSections{"features",  "local_map",    "tracker",
-                                      "optimizer", "loop_closing", "slam"};
+const std::set<std::string> kSections{"features",     "local_map", "tracker", "optimizer",
+                                      "loop_closing", "grid_map",  "slam"};
 }
 
 void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -23,12 +23,13 @@ void SlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
     if (!s.empty() && s.rfind(prefix, 0) == 0 && !kSections.count(s.substr(prefix.size())))
       throw std::invalid_argument(
           "unknown section [" + printableText(s) +
-          "] (known: features, local_map, tracker, optimizer, loop_closing, slam)");
+          "] (known: features, local_map, tracker, optimizer, loop_closing, grid_map, slam)");
   features.loadFromConfigFile(cfg, prefix + "features");
   tracker.localMap.loadFromConfigFile(cfg, prefix + "local_map");
   tracker.loadFromConfigFile(cfg, prefix + "tracker");
   optimizer.loadFromConfigFile(cfg, prefix + "optimizer");
   loopClosing.loadFromConfigFile(cfg, prefix + "loop_closing");
+  gridMap.loadFromConfigFile(cfg, prefix + "grid_map");
   loadIniKeys(*this, cfg, prefix + "slam");
 }
 
@@ -39,6 +40,7 @@ void SlamOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
   tracker.saveToConfigFile(cfg, prefix + "tracker");
   optimizer.saveToConfigFile(cfg, prefix + "optimizer");
   loopClosing.saveToConfigFile(cfg, prefix + "loop_closing");
+  gridMap.saveToConfigFile(cfg, prefix + "grid_map");
   saveIniKeys(*this, cfg, prefix + "slam");
 }
 

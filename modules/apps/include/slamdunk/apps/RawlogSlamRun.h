@@ -23,8 +23,11 @@
 #include <slamdunk/slam/FrameCsvLog.h>
 #include <slamdunk/slam/SlamSystem.h>
 
+#include <mrpt/poses/CPose3D.h>
+
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace slamdunk::apps {
@@ -47,7 +50,10 @@ struct RawlogRunOptions {
   std::string dense;       ///< PREFIX of PREFIX.ply, .pcd (coloured cloud), .ot, .bt (OctoMap)
   std::string render;      ///< PNG of the map, rendered offscreen; a .3Dscene beside it
   std::string simpleMap;   ///< keyframes as an MRPT .simplemap
-  std::string frameLog;    ///< CSV, one line per frame (FrameCsvLog)
+  /// PREFIX of the 2D occupancy grid: PREFIX.gridmap (MRPT), PREFIX.png and PREFIX.yaml (ROS
+  /// map_server); its options are slam.gridMap ([grid_map])
+  std::string gridMap;
+  std::string frameLog;  ///< CSV, one line per frame (FrameCsvLog)
 
   /// Progress, warnings and lost frames, one line each; empty: silent.
   std::function<void(const std::string&)> log;
@@ -107,6 +113,7 @@ class RawlogSlamRun {
   PauseCallback pauseCallback_;
   double pausedSeconds_ = 0;  ///< in beforeFrame
   size_t skippedWarnings_ = 0;
+  std::optional<mrpt::poses::CPose3D> sensorPose_;  ///< of the first frame processed
   bool ran_ = false;
 };
 

@@ -58,7 +58,10 @@ struct LiveSession {
   std::string map;         ///< the keyframe map (CKeyframeGraphMap)
   std::string recording;   ///< rawlog of every received frame, images embedded
   std::string frameLog;    ///< CSV, one line per processed frame (FrameCsvLog)
-  size_t maxFrames = 0;    ///< stop after receiving this many frames; 0 = no limit
+  /// PREFIX of the occupancy grid (PREFIX.gridmap, .png, .yaml; options: [grid_map]), written at
+  /// the end; each checkpoint then holds the grid of its map too.
+  std::string gridMap;
+  size_t maxFrames = 0;  ///< stop after receiving this many frames; 0 = no limit
 };
 
 /// Everything a finished session measured and built.
@@ -150,6 +153,8 @@ class LiveSlam {
   std::unique_ptr<AtomicOutput> frameCsvOutput_;
   std::unique_ptr<FrameCsvLog> frameCsv_;
   std::unique_ptr<CheckpointWriter> checkpoints_;
+  /// Of the first frame, set by the tracking thread; read once the pipeline has ended.
+  std::optional<mrpt::poses::CPose3D> sensorPose_;
   std::unique_ptr<LivePipeline> pipeline_;
   PoseCallback poseCallback_;
   FrameCallback frameCallback_;

@@ -1,9 +1,11 @@
 #pragma once
 // The whole pipeline's parameters: one INI file with sections [features], [local_map],
-// [tracker], [optimizer], [loop_closing] and [slam], each loaded by its own options struct. Unknown
-// sections or keys are errors naming them; docs/parameters.md lists every key.
+// [tracker], [optimizer], [loop_closing] and [slam], each loaded by its own options struct, and
+// [grid_map] for the occupancy grid made from the map. Unknown sections or keys are errors naming
+// them; docs/parameters.md lists every key.
 
 #include <slamdunk/features/FeatureExtractor.h>
+#include <slamdunk/grid_map/GridMapOptions.h>
 #include <slamdunk/loop_closing/LoopClosingOptions.h>
 #include <slamdunk/optimization/LocalOptimizer.h>
 #include <slamdunk/tracking/TrackerOptions.h>
@@ -19,6 +21,7 @@ struct SlamOptions : public mrpt::config::CLoadableOptions {
   TrackerOptions tracker;
   LocalOptimizerOptions optimizer;
   LoopClosingOptions loopClosing;
+  GridMapOptions gridMap;         ///< the occupancy grid the apps make from the map (--gridmap)
   bool localOptimization = true;  ///< run the relative BA when a keyframe is created
   bool optimizerThread = false;   ///< run it beside tracking (live use) instead of inline
   bool globalPassAtEnd = false;   ///< one optimization over the whole graph at the end
