@@ -21,6 +21,8 @@
 #   SOAK_NICE=5 scripts/soak.sh     the app at lower priority (a shared machine)
 #   SOAK_RAWLOG=x.rawlog scripts/soak.sh   another recording (it should end where it begins)
 #   SOAK_CHECKPOINTS=0 scripts/soak.sh      checkpoints off
+#   SOAK_LOCALIZE_IN=MAP scripts/soak.sh   localization only in a saved map (--load-map MAP
+#                                           --localize): no keyframe, the map as it was loaded
 #   SOAK_WORK=DIR scripts/soak.sh           outputs in DIR (default build/soak)
 #   scripts/soak.sh --analyse [BLOCK]      the figures of the last run again (build/soak)
 # Outputs stay in build/soak/: frames.csv (per frame; latency.csv, the columns read here), rss.csv
@@ -66,7 +68,9 @@ EOF
   rm -f "$work/frames.csv" "$work/latency.csv" "$work/summary.json"
   echo "seconds,rss_kib" > "$work/rss.csv"
   echo "soak: $minutes minutes of $rawlog replayed in a loop, RSS every $interval s ..." >&2
-  nice -n "${SOAK_NICE:-0}" "$bin/slamdunk-live" --config "$work/live.ini" \
+  localize=()
+  [ -n "${SOAK_LOCALIZE_IN:-}" ] && localize=(--load-map "$(realpath "$SOAK_LOCALIZE_IN")" --localize)
+  nice -n "${SOAK_NICE:-0}" "$bin/slamdunk-live" --config "$work/live.ini" "${localize[@]}" \
     --trajectory "$work/trajectory.txt" --frame-log "$work/frames.csv" --json \
     > "$work/summary.json" 2> "$work/log" &
   pid=$!

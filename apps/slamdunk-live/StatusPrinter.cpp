@@ -17,8 +17,10 @@ void StatusPrinter::tick(const LiveCounters& now) {
                "keyframes %zu | dropped %zu | lost %zu\n",
                std::chrono::duration<double>(t - start_).count(),
                (now.received - previous_.received) / dt, (now.processed - previous_.processed) / dt,
-               now.processed ? toString(now.lastStatus) : "waiting", now.keyframes, now.dropped,
-               now.lost);
+               !now.processed       ? "waiting"
+               : now.lastOutsideMap ? "outside map"
+                                    : toString(now.lastStatus),
+               now.keyframes, now.dropped, now.lost);
   previous_ = now;
   last_ = t;
 }

@@ -103,6 +103,16 @@ int main(int argc, char** argv) {
         "start from a saved map (a --map output or a checkpoint's map.map): the camera "
         "relocalizes in it, then mapping continues (trajectory in the saved map's frame)",
         false, "", "IN.map", cmd);
+    TCLAP::SwitchArg argLocalize(
+        "", "localize",
+        "with --load-map: localization only, the map is not changed (no keyframe is added); the "
+        "status line says when the view is outside the mapped area",
+        cmd);
+    TCLAP::SwitchArg argExtend(
+        "", "extend-map",
+        "with --localize: where the map covers too little of the view, add keyframes as mapping "
+        "does (the loaded keyframes stay as they are)",
+        cmd);
     TCLAP::SwitchArg argJson("", "json", "print the summary as JSON on stdout", cmd);
     TCLAP::SwitchArg argQuiet("q", "quiet", "no status lines", cmd);
     TCLAP::SwitchArg argGui("", "gui",
@@ -158,6 +168,13 @@ int main(int argc, char** argv) {
                      argLoadMap.getValue().c_str(), session.startMap->keyframeCount(),
                      session.startMap->edgeCount());
     }
+    if (argLocalize.getValue() && !argLoadMap.isSet())
+      throw std::runtime_error(
+          "localization only (--localize) needs the map to localize in: --load-map IN.map");
+    if (argExtend.getValue() && !argLocalize.getValue())
+      throw std::runtime_error("--extend-map goes with --localize");
+    session.localizationOnly = argLocalize.getValue();
+    session.extendMap = argExtend.getValue();
     SourceOverrides overrides;
     if (argRawlog.isSet()) overrides.rawlog = argRawlog.getValue();
     if (argSpeed.isSet()) overrides.speed = argSpeed.getValue();

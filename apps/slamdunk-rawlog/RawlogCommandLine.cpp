@@ -66,6 +66,15 @@ const Switch kSwitches[] = {
      "keep keyframe colour+depth in the map (needed later for dense outputs from a saved map; "
      "about 0.6 MB per keyframe in the file)",
      &RawlogCommandLine::mapImages},
+    {"", "localize",
+     "with --load-map: localization only, the map is not changed (no keyframe is added); frames "
+     "whose view the map covers too little are counted as outside the map (same as [tracker] "
+     "localization_only=true)",
+     &RawlogCommandLine::localize},
+    {"", "extend-map",
+     "with --localize: where the map covers too little of the view, add keyframes as mapping "
+     "does (the loaded keyframes stay as they are; same as [tracker] extend_map=true)",
+     &RawlogCommandLine::extendMap},
     {"", "json", "print the summary as JSON", &RawlogCommandLine::json},
     {"", "no-optimization",
      "disable the local optimization (same as [slam] local_optimization=false)",
@@ -118,6 +127,13 @@ std::optional<int> parseRawlogCommandLine(int argc, char** argv, RawlogCommandLi
   if (!o.configFile.empty()) o.slam = SlamOptions::fromFile(o.configFile);
   if (out.noOptimization) o.slam.localOptimization = false;
   if (out.mapImages) o.slam.tracker.keepKeyframeImages = true;
+  if (out.extendMap && !out.localize) throw std::runtime_error("--extend-map goes with --localize");
+  if (out.localize) o.slam.tracker.localizationOnly = true;
+  if (out.extendMap) o.slam.tracker.extendMap = true;
+  if (o.slam.tracker.localizationOnly && o.startMap.empty())
+    throw std::runtime_error(
+        "localization only (--localize) needs the map to localize in: "
+        "--load-map IN.map");
   if (!out.quiet)
     o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   return std::nullopt;

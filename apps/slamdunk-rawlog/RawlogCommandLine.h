@@ -12,6 +12,7 @@ struct RawlogCommandLine {
   apps::RawlogRunOptions run;  ///< its log prints to stderr unless --quiet
   bool json = false, quiet = false;
   bool noOptimization = false, mapImages = false;  ///< already applied to run.slam
+  bool localize = false, extendMap = false;        ///< already applied to run.slam
   bool gui = false, guiWait = false, guiPaused = false;
 };
 

@@ -83,6 +83,9 @@ start_job synthetic_pair handheld_rotations rotations "${handheld[@]}"
 start_job synthetic_pair handheld_shake shake "${handheld[@]}"
 start_job synthetic_pair synthetic_loop loop --external-images --jpeg-quality 95
 start_job synthetic synthetic_sweep sweep
+# A second lap round the same loop at another pace (330 frames for the loop's 400: other poses,
+# other images), localized in the first lap's map.
+start_job synthetic synthetic_loop_lap2 loop --frames 330 --external-images --jpeg-quality 95
 # The office tour (55 m round four rooms) at three times walking pace, through a Kinect-like
 # camera whose stated focal length is 3 % off: the odometry drifts by decimetres, more than the
 # active window can close at the return (loop closing's test).

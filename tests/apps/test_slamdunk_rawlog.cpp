@@ -875,6 +875,134 @@ TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
   expectSecondHalfRelocalizedInTheSavedMap(rawlog, test::scratchDir("SlamMaps_Reloc7"), 500, 0.08);
 }
 
+// ------------------------------------------------------------------ localization only
+
+namespace {
+
+/// Maps `rawlog` (its first `mapFrames` frames; 0 = all) and saves the map, then replays the
+/// whole of it in localization only (--localize, and `extra`), saving the map again.
+std::pair<SlamRun, SlamRun> mapThenLocalize(const std::string& rawlog, const std::string& dir,
+                                            size_t mapFrames = 0, const std::string& extra = "") {
+  const std::string frames = mapFrames ? " --max-frames " + std::to_string(mapFrames) : "";
+  SlamRun mapping = runSlam(rawlog, dir, frames + " --save-map " + q(dir + "/mapped.map"));
+  EXPECT_EQ(mapping.result.exitCode, 0) << mapping.result.output;
+  const std::string again = dir + "/localized";
+  fs::create_directories(again);
+  SlamRun localized =
+      runSlam(rawlog, again,
+              "--load-map " + q(dir + "/mapped.map") + " --localize --save-map " +
+                  q(again + "/after.map") + " --frame-log " + q(again + "/f.csv") + " " + extra);
+  EXPECT_EQ(localized.result.exitCode, 0) << localized.result.output;
+  return {std::move(mapping), std::move(localized)};
+}
+
+}  // namespace
+
+// A replay of the mapped sequence in its map: every frame tracked against the map as it was
+// saved, which it leaves byte for byte as it was (no keyframe, no optimization), about as
+// accurate as mapping was.
+TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksTheMappedSequenceWithoutChangingTheMap) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("SlamMaps_Localize");
+  const auto [mapping, localized] = mapThenLocalize(rawlog, dir);
+  std::cout << "mapping: ATE " << mapping.value("ate_rmse_m") << " m, "
+            << mapping.value("keyframes") << " keyframes; localization only: ATE "
+            << localized.value("ate_rmse_m") << " m, " << localized.value("frames_outside_map")
+            << " frames outside the map\n";
+  EXPECT_EQ(localized.value("tracked"), 400) << localized.result.output;
+  EXPECT_EQ(localized.value("keyframes"), 0);
+  EXPECT_EQ(localized.value("optimizations"), 0);
+  EXPECT_EQ(readFile(dir + "/localized/after.map"), readFile(dir + "/mapped.map"));
+  EXPECT_LE(localized.value("ate_rmse_m"), 1.1 * mapping.value("ate_rmse_m"));
+  EXPECT_EQ(localized.value("frames_outside_map"), 0) << "the map covers every view it was made of";
+}
+
+// A second lap round the mapped loop, at another pace (330 frames for the first lap's 400:
+// other poses and images of the same room): tracked in the first lap's map without adding to
+// it, as accurately as mapping that lap on its own.
+TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksASecondLapInTheFirstLapsMap) {
+  REQUIRE_RAWLOG(firstLap, "synthetic_loop");
+  REQUIRE_RAWLOG(secondLap, "synthetic_loop_lap2");
+  const std::string dir = test::scratchDir("SlamMaps_LocalizeLap");
+  const SlamRun mapped = runSlam(firstLap, dir, "--save-map " + q(dir + "/lap1.map"));
+  ASSERT_EQ(mapped.result.exitCode, 0) << mapped.result.output;
+  const std::string alone = dir + "/alone", localized = dir + "/localized";
+  fs::create_directories(alone);
+  fs::create_directories(localized);
+  const SlamRun mapping = runSlam(secondLap, alone);
+  const SlamRun r = runSlam(secondLap, localized,
+                            "--load-map " + q(dir + "/lap1.map") + " --localize --save-map " +
+                                q(localized + "/after.map"));
+  ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
+  std::cout << "second lap: mapped on its own ATE " << mapping.value("ate_rmse_m") << " m ("
+            << mapping.value("keyframes") << " keyframes); localized in the first lap's map ATE "
+            << r.value("ate_rmse_m") << " m, " << r.value("frames_outside_map")
+            << " frames outside the map\n";
+  EXPECT_EQ(r.value("tracked"), 330) << r.result.output;
+  EXPECT_EQ(r.value("keyframes"), 0);
+  EXPECT_EQ(readFile(localized + "/after.map"), readFile(dir + "/lap1.map"));
+  EXPECT_LE(r.value("ate_rmse_m"), 1.1 * mapping.value("ate_rmse_m"));
+}
+
+// A map of the loop's first half: the second half's views are not in it. They are reported
+// outside the map or lost, nothing is added, and the camera is found again where the loop
+// returns to the mapped half.
+TEST(SlamdunkRawlogMaps, LocalizationOnlySaysWhenTheCameraLeavesTheMap) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("SlamMaps_LocalizeHalf");
+  const auto [mapping, localized] = mapThenLocalize(rawlog, dir, 200);
+  EXPECT_EQ(localized.value("frames"), 400);
+  EXPECT_EQ(localized.value("keyframes"), 0);
+  EXPECT_EQ(readFile(dir + "/localized/after.map"), readFile(dir + "/mapped.map"));
+  const auto outside = test::csvColumn(dir + "/localized/f.csv", "outside_map");
+  const auto status = test::csvColumn(dir + "/localized/f.csv", "status");
+  ASSERT_EQ(outside.size(), 400u);
+  size_t firstHalfOutside = 0, secondHalfAway = 0;
+  for (size_t i = 0; i < 400; ++i) {
+    const bool away = outside[i] == "1" || status[i] == "lost";
+    (i < 200 ? firstHalfOutside : secondHalfAway) += away;
+  }
+  EXPECT_LE(firstHalfOutside, 5u) << "the mapped half is in the map";
+  EXPECT_GE(secondHalfAway, 100u) << "the unmapped half is not";
+  EXPECT_GE(localized.value("frames_outside_map"), 20) << localized.result.output;
+  EXPECT_GE(localized.value("relocalizations"), 1) << "found again back in the mapped half";
+  EXPECT_LE(localized.value("ate_rmse_m"), 0.01) << "its tracked frames are where they were";
+
+  const SlamRun noMap = runSlam(rawlog, dir, "--localize");
+  EXPECT_NE(noMap.result.exitCode, 0);
+  EXPECT_NE(noMap.result.output.find("--load-map"), std::string::npos) << noMap.result.output;
+}
+
+// The same half map extended (--extend-map): the unmapped half gets keyframes of its own,
+// every frame is tracked, and the loaded keyframes stay exactly where they were.
+TEST(SlamdunkRawlogMaps, LocalizationOnlyExtendedMapsTheRestAndKeepsTheLoadedKeyframes) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const std::string dir = test::scratchDir("SlamMaps_LocalizeExtend");
+  const auto [mapping, extended] = mapThenLocalize(rawlog, dir, 200, "--extend-map");
+  EXPECT_EQ(extended.value("tracked"), 400) << extended.result.output;
+  EXPECT_GE(extended.value("keyframes"), 5);
+  EXPECT_LE(extended.value("ate_rmse_m"), 0.005) << extended.result.output;
+  const auto newKeyframe = test::csvColumn(dir + "/localized/f.csv", "new_keyframe");
+  for (size_t i = 0; i < 200 && i < newKeyframe.size(); ++i)
+    EXPECT_EQ(newKeyframe[i], "0") << "a keyframe in the mapped half, frame " << i;
+  // The loaded keyframes' poses, as the map held them and as the extended map holds them.
+  const auto lines = [](const std::string& path) {
+    std::vector<std::string> out;
+    std::istringstream in(readFile(path));
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty() && line[0] != '#') out.push_back(line);
+    return out;
+  };
+  const auto loaded = lines(dir + "/trajectory_keyframes.txt");
+  const auto after = lines(dir + "/localized/trajectory_keyframes.txt");
+  ASSERT_GT(after.size(), loaded.size());
+  EXPECT_TRUE(std::equal(loaded.begin(), loaded.end(), after.begin()));
+
+  const SlamRun alone = runSlam(rawlog, dir, "--extend-map");
+  EXPECT_NE(alone.result.exitCode, 0);
+  EXPECT_NE(alone.result.output.find("--localize"), std::string::npos) << alone.result.output;
+}
+
 TEST(SlamdunkRawlogMaps, WritesMapDenseOutputsPictureAndSimpleMap) {
   REQUIRE_RAWLOG(rawlog, "synthetic_sweep");
   const std::string dir = test::scratchDir("SlamMaps_Outputs");

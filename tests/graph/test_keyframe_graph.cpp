@@ -125,3 +125,36 @@ TEST(KeyframeGraph, CulledKeyframeFollowsItsSuccessor) {
   EXPECT_EQ(snapshot->culledCount(), 2u);
   EXPECT_THROW(graph.cullKeyframe(2, 0, {}), std::logic_error);
 }
+
+// A loaded map localized in: its anchored keyframes keep their poses and points whatever an
+// optimization writes; the others move as told, a correction carries the newer ones.
+TEST(KeyframeGraph, AnchoredKeyframesStayWhereTheyAre) {
+  KeyframeGraph graph;
+  for (KeyframeId id : {0u, 1u, 2u, 3u})
+    graph.addKeyframe(keyframe(id, 4, false), Pose::Identity());
+  graph.anchor({0, 1});
+  EXPECT_TRUE(graph.isAnchored(1));
+  EXPECT_FALSE(graph.isAnchored(2));
+  EXPECT_EQ(graph.anchoredIds(), (std::set<KeyframeId>{0, 1}));
+
+  Pose moved = Pose::Identity();
+  moved.translation() = Eigen::Vector3d(1, 0, 0);
+  graph.setPoses({{1, moved}, {2, moved}},
+                 {{1, {{0, Eigen::Vector3d(9, 9, 9)}}}, {2, {{0, Eigen::Vector3d(9, 9, 9)}}}});
+  EXPECT_TRUE(graph.pose(1).isApprox(Pose::Identity()));
+  EXPECT_TRUE(graph.pose(2).isApprox(moved));
+  EXPECT_EQ(graph.refinedPoints(1), nullptr);
+  ASSERT_NE(graph.refinedPoints(2), nullptr);
+
+  // A correction of keyframes up to 1 carries those added since (2, 3) with 1, which stays.
+  graph.applyCorrection({{0, moved}, {1, moved}}, 1);
+  EXPECT_TRUE(graph.pose(0).isApprox(Pose::Identity()));
+  EXPECT_TRUE(graph.pose(1).isApprox(Pose::Identity()));
+  EXPECT_TRUE(graph.pose(3).isApprox(Pose::Identity()));
+  // Up to 2, not anchored: 2 moves, and 3 with it.
+  Pose further = moved;
+  further.translation().x() = 3;
+  graph.applyCorrection({{2, further}}, 2);
+  EXPECT_TRUE(graph.pose(2).isApprox(further));
+  EXPECT_NEAR(graph.pose(3).translation().x(), 2, 1e-12);  // by 3 - 1 = 2 from where it was
+}

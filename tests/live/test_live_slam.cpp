@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -58,6 +59,39 @@ bool waitFor(Done done) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
+}
+
+/// What a session that was pushed every frame finished with, and every pose it published.
+struct PushedSession {
+  LiveResult result;
+  std::vector<LivePose> published;
+};
+
+/// Runs a LiveSlam over `session` (no checkpoints), pushing the frames `next()` gives until it
+/// gives none, one at a time: none is dropped, so the keyframes are the offline ones.
+PushedSession pushEveryFrame(const LiveSession& session,
+                             const std::function<mrpt::obs::CObservation3DRangeScan::Ptr()>& next) {
+  auto source = std::make_unique<PushFrameSource>();
+  PushFrameSource& push = *source;
+  LiveSlam live(optionsWithoutCheckpoints(), std::move(source), session);
+  PushedSession out;
+  std::mutex mutex;
+  live.onPose([&](const LivePose& p) {
+    std::lock_guard lock(mutex);
+    out.published.push_back(p);
+  });
+  live.start();
+  EXPECT_TRUE(live.waitUntilOpen(5));
+  size_t pushed = 0;
+  while (auto obs = next()) {
+    EXPECT_TRUE(push.push(obs));
+    ++pushed;
+    EXPECT_TRUE(waitFor([&] { return live.counters().processed == pushed; }));
+  }
+  push.close();
+  EXPECT_TRUE(waitFor([&] { return live.finished(); }));
+  out.result = live.finish();
+  return out;
 }
 
 }  // namespace
@@ -136,34 +170,18 @@ TEST(LiveSlam, ASessionOutsideTheStartMapIsToldSoUntilItJoins) {
   }
   mapping.finish();
 
-  auto source = std::make_unique<PushFrameSource>();
-  PushFrameSource& push = *source;
   LiveSession session;
   session.startMap = mapping.graph();
-  LiveSlam live(optionsWithoutCheckpoints(), std::move(source), session);
-  std::vector<LivePose> published;
-  std::mutex mutex;
-  live.onPose([&](const LivePose& p) {
-    std::lock_guard lock(mutex);
-    published.push_back(p);
-  });
-  live.start();
-  ASSERT_TRUE(live.waitUntilOpen(5));
   RawlogReader secondSession(second);
   size_t pushed = 0;
-  while (auto obs = secondSession.next()) {
-    obs->load();
-    ASSERT_TRUE(push.push(obs));
-    ++pushed;  // one at a time: none dropped, the same keyframes as offline
-    ASSERT_TRUE(waitFor([&] { return live.counters().processed == pushed; }));
-  }
-  push.close();
-  ASSERT_TRUE(waitFor([&] { return live.finished(); }));
-  const LiveResult result = live.finish();
+  const auto [result, published] = pushEveryFrame(session, [&] {
+    auto obs = secondSession.next();
+    if (obs) obs->load(), ++pushed;
+    return obs;
+  });
   EXPECT_EQ(result.stats.componentsStarted, 1u);
   EXPECT_EQ(result.stats.placeLoops.joins, 1u);
 
-  std::lock_guard lock(mutex);
   ASSERT_EQ(published.size(), pushed);
   const auto started = std::find_if(published.begin(), published.end(),
                                     [](const LivePose& p) { return p.separateComponent; });
@@ -176,6 +194,46 @@ TEST(LiveSlam, ASessionOutsideTheStartMapIsToldSoUntilItJoins) {
   for (auto p = started; p != joined; ++p) EXPECT_TRUE(p->separateComponent) << p->frameIndex;
   EXPECT_FALSE(published.back().separateComponent);
   EXPECT_EQ(published.back().status, TrackingStatus::Tracked);
+}
+
+// A robot in a mapped building: the map of the loop's first half, then the whole loop live in
+// localization only. The map stays as it was; the poses in the unmapped half say so.
+TEST(LiveSlam, LocalizationOnlyKeepsTheStartMapAndSaysWhereItEnds) {
+  REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  const auto frames = readFrames(rawlog, 400);
+  SlamSystem mapping(SlamOptions{});
+  for (size_t i = 0; i < 200; ++i) mapping.process(*frames[i]);
+  mapping.finish();
+  const auto before = mapping.graph()->poses();
+
+  LiveSession session;
+  session.startMap = mapping.graph();
+  session.localizationOnly = true;
+  size_t next = 0;
+  const auto [result, published] =
+      pushEveryFrame(session, [&] { return next < frames.size() ? frames[next++] : nullptr; });
+  EXPECT_EQ(result.counters.keyframes, 0u);
+  EXPECT_EQ(result.stats.optimizations, 0u);
+  const auto after = result.graph->poses();
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [id, pose] : before) EXPECT_TRUE(after.at(id).isApprox(pose, 0)) << id;
+
+  ASSERT_EQ(published.size(), frames.size());
+  size_t mappedHalfAway = 0, otherHalfAway = 0;
+  for (size_t i = 0; i < published.size(); ++i) {
+    const bool away = published[i].outsideMap || published[i].status == TrackingStatus::Lost;
+    (i < 200 ? mappedHalfAway : otherHalfAway) += away;
+  }
+  EXPECT_LE(mappedHalfAway, 5u);
+  EXPECT_GE(otherHalfAway, 100u);
+  EXPECT_EQ(result.counters.outsideMap, result.stats.framesOutsideMap);
+  EXPECT_GT(result.counters.outsideMap, 0u);
+
+  // Without a map there is nothing to localize in.
+  LiveSession empty;
+  empty.localizationOnly = true;
+  EXPECT_THROW(LiveSlam(optionsWithoutCheckpoints(), std::make_unique<PushFrameSource>(), empty),
+               std::invalid_argument);
 }
 
 TEST(LiveSlam, ApplicationOwnedSensorIsPolledByTheGrabber) {

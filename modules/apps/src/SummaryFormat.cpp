@@ -59,6 +59,7 @@ void addSlamCounts(Json& json, const SlamStatistics& s) {
   json["components_joined"] = s.placeLoops.joins;
   json["component_joins_refused"] = s.placeLoops.joinsRefused;
   json["relocalizations"] = s.relocalizations;
+  json["frames_outside_map"] = s.framesOutsideMap;
   json["frames_out_of_order"] = s.framesOutOfOrder;
 }
 
@@ -87,6 +88,9 @@ void printTrackingProblems(const SlamStatistics& s, int width) {
   if (s.relocalizations > 0)
     line("  relocalized:",
          std::to_string(s.relocalizations) + " times (found again in the whole map)");
+  if (s.framesOutsideMap > 0)
+    line("  outside the map:", std::to_string(s.framesOutsideMap) +
+                                   " tracked frames whose view the map covers too little");
   if (s.framesOutOfOrder > 0) {
     line("  skipped:",
          std::to_string(s.framesOutOfOrder) + " frames whose timestamp did not increase");

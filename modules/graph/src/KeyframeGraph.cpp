@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -159,7 +160,7 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
   std::map<KeyframeId, RefinedPoints> replacements;
   for (const auto& [id, changes] : refined) {
     const KeyframePtr kf = keyframe(id);
-    if (!kf) continue;  // culled meanwhile
+    if (!kf || isAnchored(id)) continue;  // culled meanwhile, or held
     const RefinedPoints old = refinedPoints(id);
     auto points = std::make_shared<std::vector<Eigen::Vector3d>>(old ? *old : kf->features.points);
     for (const auto& [feature, p] : changes) points->at(feature) = p;
@@ -167,7 +168,7 @@ void KeyframeGraph::setPoses(const std::map<KeyframeId, Pose>& poses,
   }
   std::unique_lock lock(mutex_);
   for (const auto& [id, p] : poses)
-    if (const auto it = poses_.find(id); it != poses_.end()) it->second = p;
+    if (const auto it = poses_.find(id); it != poses_.end() && !anchored_.count(id)) it->second = p;
   for (auto& [id, points] : replacements)
     if (keyframes_.count(id)) refined_[id] = std::move(points);
 }
@@ -176,13 +177,37 @@ void KeyframeGraph::applyCorrection(const std::map<KeyframeId, Pose>& poses, Key
   std::unique_lock lock(mutex_);
   const auto corrected = poses.find(newest);
   const auto before = poses_.find(newest);
-  if (corrected != poses.end() && before != poses_.end()) {
+  // Keyframes added since the snapshot move with `newest`; an anchored one does not move.
+  if (corrected != poses.end() && before != poses_.end() && !anchored_.count(newest)) {
     const Pose carry = corrected->second * before->second.inverse();
     for (auto it = poses_.upper_bound(newest); it != poses_.end(); ++it)
-      it->second = orthonormalized(carry * it->second);
+      if (!anchored_.count(it->first)) it->second = orthonormalized(carry * it->second);
   }
   for (const auto& [id, p] : poses)
-    if (const auto it = poses_.find(id); it != poses_.end()) it->second = p;
+    if (const auto it = poses_.find(id); it != poses_.end() && !anchored_.count(id)) it->second = p;
+}
+
+std::map<KeyframeId, int> KeyframeGraph::component(KeyframeId id) const {
+  return rings(id, std::numeric_limits<int>::max());
+}
+
+bool KeyframeGraph::connected(KeyframeId a, KeyframeId b) const {
+  return hopDistance(a, b, std::numeric_limits<int>::max()) >= 0;
+}
+
+void KeyframeGraph::anchor(const std::vector<KeyframeId>& ids) {
+  std::unique_lock lock(mutex_);
+  anchored_.insert(ids.begin(), ids.end());
+}
+
+bool KeyframeGraph::isAnchored(KeyframeId id) const {
+  std::shared_lock lock(mutex_);
+  return anchored_.count(id) > 0;
+}
+
+std::set<KeyframeId> KeyframeGraph::anchoredIds() const {
+  std::shared_lock lock(mutex_);
+  return anchored_;
 }
 
 RefinedPoints KeyframeGraph::refinedPoints(KeyframeId id) const {

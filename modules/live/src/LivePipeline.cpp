@@ -112,6 +112,8 @@ void LivePipeline::trackingLoop() {
       else
         ++tracked_;
       lastStatus_ = static_cast<int>(r.status);
+      lastOutsideMap_ = r.outsideMap;
+      if (r.outsideMap) ++outsideMap_;
     }
     if (r.newKeyframe) ++keyframes_;
     lastProcessed_ = Clock::now().time_since_epoch().count();
@@ -128,6 +130,8 @@ LiveCounters LivePipeline::counters() const {
   c.lost = lost_;
   c.keyframes = keyframes_;
   c.lastStatus = static_cast<TrackingStatus>(lastStatus_.load());
+  c.outsideMap = outsideMap_;
+  c.lastOutsideMap = lastOutsideMap_;
   const auto ms = [](Clock::rep ticks) {
     return std::chrono::duration<double, std::milli>(Clock::duration(ticks)).count();
   };

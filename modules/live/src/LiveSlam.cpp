@@ -53,6 +53,8 @@ LiveSlam::LiveSlam(LiveOptions options, std::unique_ptr<FrameSource> source, Liv
   for (const std::string& out : {session_.trajectory, session_.keyframes, session_.map,
                                  session_.recording, session_.frameLog, session_.gridMap})
     if (!out.empty()) requireWritableFolder(out);
+  if (session_.localizationOnly) options_.slam.tracker.localizationOnly = true;
+  if (session_.extendMap) options_.slam.tracker.extendMap = true;
   slam_ = std::make_unique<SlamSystem>(options_.slam, session_.startMap);
   if (!session_.recording.empty()) recorder_ = std::make_unique<RawlogRecorder>(session_.recording);
   if (!session_.frameLog.empty()) {
@@ -158,6 +160,7 @@ void LiveSlam::frameDone(const mrpt::obs::CObservation3DRangeScan& frame, const 
     pose.newKeyframe = r.newKeyframe;
     pose.loopCorrected = r.loopCorrected;
     pose.separateComponent = slam_->inSeparateComponent();
+    pose.outsideMap = r.outsideMap;
     pose.latencyMs = latencyMs;
     latest_ = pose;
   }

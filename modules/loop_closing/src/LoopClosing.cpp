@@ -3,7 +3,6 @@
 #include <slamdunk/tracking/KeyframeEdges.h>
 
 #include <algorithm>
-#include <limits>
 
 namespace slamdunk {
 
@@ -73,9 +72,8 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
 }
 
 void LoopClosing::joinComponents(const LoopHypothesis& loop) {
-  constexpr int kWhole = std::numeric_limits<int>::max();
-  const std::map<KeyframeId, int> queryPart = graph_->rings(loop.query, kWhole);
-  const std::map<KeyframeId, int> candidatePart = graph_->rings(loop.candidate, kWhole);
+  const std::map<KeyframeId, int> queryPart = graph_->component(loop.query);
+  const std::map<KeyframeId, int> candidatePart = graph_->component(loop.candidate);
   if (queryPart.empty() || candidatePart.empty() || queryPart.count(loop.candidate)) return;
   // Maps the query's component's frame into the candidate's, as the loop measured it.
   const Pose queryToCandidate =

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 
 namespace slamdunk {
@@ -136,7 +135,7 @@ bool PlaceRecognition::plausibleDrift(const LoopHypothesis& h, const KeyframeGra
 }
 
 bool PlaceRecognition::joinContradicted(const LoopHypothesis& h, const KeyframeGraph& graph) const {
-  const std::map<KeyframeId, int> joining = graph.rings(h.query, std::numeric_limits<int>::max());
+  const std::map<KeyframeId, int> joining = graph.component(h.query);
   const std::map<KeyframeId, Pose> poses = graph.poses();
   const Pose toMap = poses.at(h.candidate) * h.T_candidate_query * poses.at(h.query).inverse();
   int checked = 0, failed = 0;
@@ -194,7 +193,7 @@ PlaceRecognition::Detection PlaceRecognition::keyframeAdded(const KeyframeGraph&
     if (!candidate) continue;
     ++d.candidatesVerified;
     std::optional<LoopHypothesis> h = verify(*kf, *candidate);
-    if (h) h->joins = graph.hopDistance(id, c, std::numeric_limits<int>::max()) < 0;
+    if (h) h->joins = !graph.connected(id, c);
     if (h && !h->joins && !plausibleDrift(*h, graph)) {
       h.reset();
       ++d.candidatesRefused;

@@ -31,9 +31,10 @@ LocalProblem snapshotRings(const KeyframeGraph& graph, KeyframeId root, int ring
   const std::map<KeyframeId, int> ring = graph.rings(root, rings);
   LocalProblem p;
   p.edges = graph.edgesWithin(ring);
+  const std::set<KeyframeId> anchored = graph.anchoredIds();
   for (const auto& [id, r] : ring) {
     p.poses[id] = graph.pose(id);
-    if (r >= rings) p.fixed.insert(id);
+    if (r >= rings || anchored.count(id)) p.fixed.insert(id);
   }
   snapshotFocalLengths(graph, p);
   return p;
@@ -43,6 +44,8 @@ LocalProblem snapshotAll(const KeyframeGraph& graph) {
   LocalProblem p;
   p.edges = graph.allEdges();
   p.poses = graph.poses();
+  for (KeyframeId id : graph.anchoredIds())
+    if (p.poses.count(id)) p.fixed.insert(id);
   snapshotFocalLengths(graph, p);
   return p;
 }

@@ -43,11 +43,15 @@ struct RelativePoseResidual {
   double translationScale, rotationScale;
 };
 
-/// The smallest id of each connected component (edges and loops together): LocalProblem's rule.
+/// The anchored keyframes, and the smallest id of each connected component (edges and loops
+/// together) that holds none: LocalProblem's rule.
 std::set<KeyframeId> gaugeVertices(const std::map<KeyframeId, Pose>& poses,
-                                   const std::vector<std::pair<KeyframeId, KeyframeId>>& links) {
+                                   const std::vector<std::pair<KeyframeId, KeyframeId>>& links,
+                                   const std::set<KeyframeId>& anchored) {
   LocalProblem components;
   components.poses = poses;
+  for (KeyframeId id : anchored)
+    if (poses.count(id)) components.fixed.insert(id);
   for (const auto& [i, j] : links) components.edges.push_back({i, j, {}});
   fixGauge(components, nullptr);
   return components.fixed;
@@ -81,7 +85,7 @@ PoseGraphReport optimizePoseGraph(KeyframeGraph& graph,
   }
   report.constraints = constraints.size();
 
-  PoseParameters parameters(poses, gaugeVertices(poses, links));
+  PoseParameters parameters(poses, gaugeVertices(poses, links, graph.anchoredIds()));
   ceres::Problem::Options problemOptions;
   problemOptions.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problemOptions);

@@ -9,8 +9,8 @@ namespace slamdunk {
 const char* const FrameCsvLog::kHeader =
     "index,timestamp,status,features,matches,inliers,overlap,new_keyframe,keyframe_id,"
     "loop_closure,reference,ms_features,ms_pool,ms_matching,ms_ransac,ms_total,tx,ty,tz,"
-    "pool_size,depth_only,ms_pool_wait,relocalized,overlap_cells,keyframes,loop_corrected,grab_s,"
-    "latency_ms,lost_reason";
+    "pool_size,depth_only,ms_pool_wait,relocalized,overlap_cells,keyframes,loop_corrected,"
+    "outside_map,grab_s,latency_ms,lost_reason";
 
 FrameCsvLog::FrameCsvLog(const std::string& path) : file_(path) {
   if (!file_) throw std::runtime_error("cannot create it");
@@ -27,13 +27,13 @@ void FrameCsvLog::add(const TrackingResult& r, const std::optional<Grab>& grab) 
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "%zu,%.6f,%s,%zu,%zu,%zu,%.3f,%d,%u,%d,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,"
-                "%zu,%d,%.3f,%d,%d,%zu,%d,",
+                "%zu,%d,%.3f,%d,%d,%zu,%d,%d,",
                 index_++, r.timestamp, r.skipped ? "skipped" : toString(r.status), r.features,
                 r.matches, r.inliers, r.overlap, r.newKeyframe ? 1 : 0, r.keyframeId,
                 r.loopClosure ? 1 : 0, r.reference, r.timings.features, r.timings.pool,
                 r.timings.matching, r.timings.ransac, r.timings.total, t.x(), t.y(), t.z(),
                 r.poolSize, r.depthOnly ? 1 : 0, r.timings.poolWait, r.relocalized ? 1 : 0,
-                r.overlapCells, keyframes_, r.loopCorrected ? 1 : 0);
+                r.overlapCells, keyframes_, r.loopCorrected ? 1 : 0, r.outsideMap ? 1 : 0);
   std::string line = buf;
   if (grab) {
     if (!firstGrab_) firstGrab_ = grab->grabbed;

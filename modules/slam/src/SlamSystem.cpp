@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <limits>
+#include <stdexcept>
 
 namespace slamdunk {
 
@@ -19,7 +19,12 @@ SlamSystem::SlamSystem(const SlamOptions& options, std::shared_ptr<KeyframeGraph
       optimization_(
           options.optimizer, graph_, options.localOptimization && options.optimizerThread,
           [this] { tracker_.notifyMapChanged(); },
-          [this](KeyframeId id, const DepthNoiseModel& noise) { closeLoops(id, noise); }) {}
+          [this](KeyframeId id, const DepthNoiseModel& noise) { closeLoops(id, noise); }) {
+  if (options.tracker.localizationOnly && graph_->keyframeCount() == 0)
+    throw std::invalid_argument(
+        "[tracker] localization_only: there is no map to localize in (give one: --load-map)");
+  if (options.tracker.localizationOnly) graph_->anchor(graph_->ids());
+}
 
 SlamSystem::~SlamSystem() = default;
 
@@ -111,11 +116,11 @@ TrackingResult SlamSystem::track(const RgbdFrame& frame) {
     }
     if (r.newKeyframe) ++stats_.keyframes;
     if (r.newComponent) ++stats_.componentsStarted;
+    if (r.outsideMap) ++stats_.framesOutsideMap;
     if (r.newComponent) separateComponent_ = true;
     if (r.loopCorrected) separateComponent_ = apartAfterCorrection_.load();
     if (r.relocalized && separateComponent_)  // perhaps into the map's first component
-      separateComponent_ = graph_->hopDistance(graph_->ids().front(), r.reference,
-                                               std::numeric_limits<int>::max()) < 0;
+      separateComponent_ = !graph_->connected(graph_->ids().front(), r.reference);
     stats_.keyframes -= r.culledKeyframes.size();
     stats_.keyframesCulled += r.culledKeyframes.size();
     if (r.loopClosure) ++stats_.loopClosures;
@@ -134,8 +139,7 @@ void SlamSystem::closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise) {
   // Joined to the map's first component, or to another one (checked on this rare event only:
   // a walk over the whole graph). The tracker's next frame reports both at once.
   const std::vector<KeyframeId> ids = graph_->ids();
-  apartAfterCorrection_ =
-      graph_->hopDistance(ids.front(), ids.back(), std::numeric_limits<int>::max()) < 0;
+  apartAfterCorrection_ = !graph_->connected(ids.front(), ids.back());
   tracker_.notifyMapCorrected();
 }
 

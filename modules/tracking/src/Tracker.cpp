@@ -97,6 +97,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (!enoughFeatures && !depthOnlyPossible) return lostBecause(fewFeatures());
 
   if (graph_->keyframeCount() == 0) {
+    if (options_.localizationOnly) return lostBecause("localization only, and the map is empty");
     r = initialize(frame, std::move(features), r);
     r.timings.total = msSince(start);
     return r;
@@ -111,6 +112,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (!registration) {
     // Started from a saved map that does not show this place: map on alone rather than wait.
     const bool alone = !trackedOnce_ && options_.newComponentAfter > 0 && enoughFeatures &&
+                       (!options_.localizationOnly || options_.extendMap) &&
                        framesLost_ + 1 >= static_cast<size_t>(options_.newComponentAfter);
     if (!alone) return lostBecause(r.lostReason);
     r = initialize(frame, std::move(features), r, newComponentOrigin());
@@ -264,7 +266,7 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
 
   // A keyframe is linked through the pool it was matched against, and the overlap only means
   // something once the newest keyframe's features are in that pool.
-  const bool maySpawn = !r.relocalized && !matchingWholeMap_ && localMap_.includes(newestKeyframe_);
+  bool maySpawn = !r.relocalized && !matchingWholeMap_ && localMap_.includes(newestKeyframe_);
   // Paper Sec. 4.4: a frame matching keyframes far apart in the graph becomes a keyframe
   // linked to all of them, whether or not the overlap alone would spawn one. Any new keyframe
   // whose edges join keyframes that far apart closes a metric loop (counted as such).
@@ -272,7 +274,15 @@ void Tracker::updateMap(const RgbdFrame& frame, Registration&& registration, Tra
   if (maySpawn && lowOverlap && !r.depthOnly && policy_.options().coveredView > 0)
     lowOverlap = coverage_.coveredShare(features.points, registration.pose, *graph_, linkable) <
                  policy_.options().coveredView;
-  const bool spawn = maySpawn && (lowOverlap || closesMetricLoop(r.matchedKeyframes));
+  bool metricLoopSpawns = true;
+  if (options_.localizationOnly) {
+    r.outsideMap = !r.relocalized && lowOverlap;
+    // The loaded map stays as it is; extended, it grows where it does not cover the view.
+    maySpawn = maySpawn && options_.extendMap;
+    metricLoopSpawns = false;
+  }
+  const bool spawn =
+      maySpawn && (lowOverlap || (metricLoopSpawns && closesMetricLoop(r.matchedKeyframes)));
   r.loopClosure = spawn && closesMetricLoop(linkable);
 
   const Pose& pose = registration.pose;

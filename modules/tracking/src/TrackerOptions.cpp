@@ -44,6 +44,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
   require(culling.redundantShare >= 0 && culling.redundantShare <= 1,
           "keyframe_cull_share must be in [0, 1]");
   require(newComponentAfter >= 0, "new_component_after must be >= 0 (0: never)");
+  require(!extendMap || localizationOnly, "extend_map goes with localization_only = true");
   require(culling.minObservers >= 1, "keyframe_cull_observers must be >= 1");
 }
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <shared_mutex>
 #include <vector>
 
@@ -99,6 +100,12 @@ class KeyframeGraph {
   /// their poses as setPoses() does, and moves the keyframes added since rigidly with `newest`,
   /// at once.
   void applyCorrection(const std::map<KeyframeId, Pose>& poses, KeyframeId newest);
+  /// Holds keyframes where they are: a loaded map a session localizes in, which it may extend
+  /// but not change (TrackerOptions::localizationOnly). setPoses() and applyCorrection() leave
+  /// their poses and points as they are, and the optimizers hold them fixed.
+  void anchor(const std::vector<KeyframeId>& ids);
+  bool isAnchored(KeyframeId id) const;
+  std::set<KeyframeId> anchoredIds() const;
   /// The keyframe's refined feature positions; null if none was refined.
   RefinedPoints refinedPoints(KeyframeId id) const;
 
@@ -110,6 +117,11 @@ class KeyframeGraph {
   std::map<KeyframeId, int> rings(KeyframeId root, int maxRing) const;
   /// Hop count between two keyframes, or -1 if more than maxHops apart (or unconnected).
   int hopDistance(KeyframeId a, KeyframeId b, int maxHops) const;
+  /// Every keyframe connected to `id` through edges (its component of the map), with its hop
+  /// count from `id`: rings() without a limit. Empty for an id not in the graph.
+  std::map<KeyframeId, int> component(KeyframeId id) const;
+  /// Whether a path of edges joins the two: the same component of the map.
+  bool connected(KeyframeId a, KeyframeId b) const;
   /// Copies of the edges whose both endpoints are in the set.
   std::vector<KeyframeEdge> edgesWithin(const std::map<KeyframeId, int>& vertices) const;
   std::vector<KeyframeEdge> allEdges() const;
@@ -137,6 +149,7 @@ class KeyframeGraph {
   std::map<EdgeKey, KeyframeEdge> edges_;
   std::map<KeyframeId, std::vector<KeyframeId>> adjacency_;
   std::map<KeyframeId, Culled> culled_;
+  std::set<KeyframeId> anchored_;
 };
 
 }  // namespace slamdunk

@@ -26,6 +26,9 @@ struct LiveCounters {
   /// processed = tracked + lost + frames skipped for a timestamp that did not increase
   size_t received = 0, processed = 0, dropped = 0, tracked = 0, lost = 0, keyframes = 0;
   TrackingStatus lastStatus = TrackingStatus::Lost;
+  /// Localization only: tracked frames outside the mapped area, and whether the last one was.
+  size_t outsideMap = 0;
+  bool lastOutsideMap = false;
   double activeSeconds = 0;  ///< from the first frame received to the last one processed
   /// Where a delay came from when frames were dropped: the source (the longest time between
   /// two frames it handed over; a replay at 30 Hz: 33 ms) or the tracker (the longest time a
@@ -77,6 +80,8 @@ class LivePipeline {
   std::atomic<bool> stop_{false}, trackingDone_{false};
   std::atomic<size_t> received_{0}, processed_{0}, tracked_{0}, lost_{0}, keyframes_{0};
   std::atomic<int> lastStatus_{static_cast<int>(TrackingStatus::Lost)};
+  std::atomic<size_t> outsideMap_{0};
+  std::atomic<bool> lastOutsideMap_{false};
   std::atomic<Clock::rep> firstFrame_{0}, lastProcessed_{0};           ///< Clock ticks, 0 = not yet
   std::atomic<Clock::rep> longestSourceGap_{0}, longestQueueWait_{0};  ///< Clock ticks
 

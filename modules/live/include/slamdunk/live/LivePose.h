@@ -31,6 +31,9 @@ struct LivePose {
   /// started where its loaded map does not reach): its own frame, placed beside the map, until
   /// place recognition joins it (a loopCorrected pose).
   bool separateComponent = false;
+  /// Localization only: the map covers too little of this frame's view (the camera is leaving
+  /// the mapped area; nothing is added to the map there).
+  bool outsideMap = false;
   double latencyMs = 0;  ///< from the frame's grab to this pose (queueing included)
 };
 

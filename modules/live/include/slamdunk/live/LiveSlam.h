@@ -62,6 +62,10 @@ struct LiveSession {
   /// the end; each checkpoint then holds the grid of its map too.
   std::string gridMap;
   size_t maxFrames = 0;  ///< stop after receiving this many frames; 0 = no limit
+  /// Localization only in startMap ([tracker] localization_only): the map is not changed.
+  bool localizationOnly = false;
+  /// With localizationOnly: keyframes where the map covers too little ([tracker] extend_map).
+  bool extendMap = false;
 };
 
 /// Everything a finished session measured and built.

@@ -81,6 +81,9 @@ struct SlamStatistics {
   /// Times a session from a saved map, not relocalized in it, started a new component of the
   /// map (its joins with the rest are placeLoops.joins).
   size_t componentsStarted = 0;
+  /// Localization only: tracked frames whose view the map covers too little (TrackingResult::
+  /// outsideMap).
+  size_t framesOutsideMap = 0;
   /// Frames not processed because their timestamp was not after the previous frame's (a
   /// repeated or backward stamp), and the first few reasons, each naming the frame.
   size_t framesOutOfOrder = 0;

@@ -63,7 +63,10 @@ struct TrackingResult {
   /// started a new component of the map (status Initialized), beside the loaded one until place
   /// recognition joins the two.
   bool newComponent = false;
-  bool depthOnly = false;     ///< registered by depth alone (the features did not register)
+  bool depthOnly = false;  ///< registered by depth alone (the features did not register)
+  /// Localization only (TrackerOptions::localizationOnly): tracked, but the map covers less of
+  /// the view than a keyframe's spawning threshold: the camera is leaving the mapped area.
+  bool outsideMap = false;
   bool skipped = false;       ///< not processed (SlamSystem): its timestamp did not increase
   KeyframeId keyframeId = 0;  ///< id of the new keyframe, if any
   size_t features = 0, matches = 0, inliers = 0;

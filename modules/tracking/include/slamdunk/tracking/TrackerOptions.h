@@ -39,6 +39,14 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
   /// rest until place recognition joins them (0 = keep waiting). A camera that tracked and then
   /// lost its way keeps waiting to relocalize: its trajectory stays in one frame.
   int newComponentAfter = 30;
+  /// Track and relocalize in a loaded map without changing it: no keyframe is added, so nothing
+  /// is optimized and the map, the memory and the cost per frame stay as they are however long
+  /// the session. A frame whose view the map covers less than keyframe_overlap (where mapping
+  /// would add a keyframe) is reported outside the map. Needs a start map.
+  bool localizationOnly = false;
+  /// With localizationOnly: where the map covers too little of the view, add keyframes as
+  /// mapping does; the loaded keyframes stay as they are (the optimizations hold them fixed).
+  bool extendMap = false;
   double maxTranslationJump = 0.5;  ///< metres between consecutive tracked frames (not when lost)
   bool keepKeyframeImages = false;  ///< store colour+depth in keyframes for dense outputs
   bool weightedRefit = true;        ///< final pose fit weighs pairs by their depth noise
@@ -105,6 +113,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions {
     k("relocalize_after", o.relocalizeAfter);
     k("relocalize_min_inliers", o.relocalizeMinInliers);
     k("new_component_after", o.newComponentAfter);
+    k("localization_only", o.localizationOnly);
+    k("extend_map", o.extendMap);
     k("max_translation_jump", o.maxTranslationJump);
     k("keep_keyframe_images", o.keepKeyframeImages);
     k("weighted_refit", o.weightedRefit);
