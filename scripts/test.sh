@@ -44,7 +44,7 @@ long_runs=(
   'LocalOptimizer\.TimingOnRealisticLocalProblems$'
   # The occupancy grid of the office through Kinect depth and a drifting, loop-corrected map
   # (CI: the same office with exact depth, tour_twins).
-  'Office/SlamdunkRawlogGridMap\.TheOfficesGridMatchesItsGeometry/tour_drift$'
+  'Office/SlamdunkRawlogGridMap\.TheOfficesGridMatchesItsGeometry/tour_drift '
 )
 subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
 [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && subset=()

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <ostream>
 
 using namespace slamdunk;
 
@@ -46,6 +47,9 @@ struct OfficeRun {
   double cells;          ///< how near a wall or box an occupied cell must lie
   double minOnGeometry;  ///< share of occupied cells that do
 };
+
+/// gtest prints the parameter into ctest's test name: the sequence's name, not its bytes.
+void PrintTo(const OfficeRun& run, std::ostream* os) { *os << run.rawlog; }
 
 class SlamdunkRawlogGridMap : public ::testing::TestWithParam<OfficeRun> {};
 
