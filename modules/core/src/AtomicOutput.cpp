@@ -6,6 +6,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/serialization/CSerializable.h>
+
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -178,6 +182,21 @@ void requireCompleteGzip(const std::string& path, uint64_t uncompressedBytes,
     throw std::runtime_error("'" + target + "' was not written completely (" +
                              std::to_string(size < 0 ? 0 : size) +
                              " compressed bytes on disk, the end missing)");
+}
+
+void writeGzArchive(const std::string& path, const mrpt::serialization::CSerializable& object,
+                    int compressionLevel) {
+  AtomicOutput atomic(path);
+  {
+    mrpt::io::CFileGZOutputStream f;
+    if (!f.open(atomic.tempPath(), compressionLevel))
+      throw std::runtime_error("cannot open '" + path + "' for writing");
+    mrpt::serialization::archiveFrom(f) << object;
+    const uint64_t bytes = f.getPosition();
+    f.close();
+    requireCompleteGzip(atomic.tempPath(), bytes, path);
+  }
+  atomic.commit();
 }
 
 std::string writeFailureHint(const std::string& target) {

@@ -7,7 +7,6 @@
 #include <Eigen/Eigenvalues>
 
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/opengl/CFBORender.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
@@ -300,19 +299,7 @@ void MapRenderer::renderPng(const mrpt::opengl::COpenGLScene& scene,
 }
 
 void MapRenderer::saveScene(const mrpt::opengl::COpenGLScene& scene, const std::string& path) {
-  AtomicOutput out(path);
-  try {
-    mrpt::io::CFileGZOutputStream f;
-    if (!f.open(out.tempPath())) throw std::runtime_error("cannot open for writing");
-    auto archive = mrpt::serialization::archiveFrom(f);
-    archive << scene;
-    const uint64_t bytes = f.getPosition();
-    f.close();
-    requireCompleteGzip(out.tempPath(), bytes, path);
-  } catch (const std::exception& e) {
-    throw std::runtime_error("cannot write scene '" + path + "': " + e.what());
-  }
-  out.commit();
+  writeGzArchive(path, scene);
 }
 
 std::shared_ptr<mrpt::opengl::COpenGLScene> MapRenderer::loadScene(const std::string& path) {

@@ -2,7 +2,6 @@
 #include <slamdunk/grid_map/GridMapFiles.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -78,21 +77,7 @@ const std::vector<std::string>& gridMapExtensions() {
 
 void writeGridMap(const GridMap& map, const std::string& prefix, std::string imageName) {
   if (imageName.empty()) imageName = std::filesystem::path(prefix + ".png").filename().string();
-  const std::string gridPath = prefix + ".gridmap";
-  {
-    AtomicOutput atomic(gridPath);
-    {
-      mrpt::io::CFileGZOutputStream f;
-      if (!f.open(atomic.tempPath()))
-        throw std::runtime_error(writeErrorMessage(gridPath, "cannot open", atomic.tempPath()));
-      auto out = mrpt::serialization::archiveFrom(f);
-      out << map.grid;
-      const uint64_t bytes = f.getPosition();
-      f.close();
-      requireCompleteGzip(atomic.tempPath(), bytes, gridPath);
-    }
-    atomic.commit();
-  }
+  writeGzArchive(prefix + ".gridmap", map.grid);
   writeBytes(prefix + ".png", pngOf(map.grid));
   writeBytes(prefix + ".yaml", yamlOf(map, imageName));
 }

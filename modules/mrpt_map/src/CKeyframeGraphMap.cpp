@@ -10,7 +10,6 @@
 
 #include <mrpt/core/initializer.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
@@ -163,18 +162,7 @@ void CKeyframeGraphMap::saveToFile(const std::string& path, int compressionLevel
   if (compressionLevel < 0 || compressionLevel > 9)
     throw std::invalid_argument("map compression level must be 0..9, not " +
                                 std::to_string(compressionLevel));
-  AtomicOutput atomic(path);
-  {
-    mrpt::io::CFileGZOutputStream f;
-    if (!f.open(atomic.tempPath(), compressionLevel))
-      throw std::runtime_error("cannot write map file '" + path + "'");
-    auto out = mrpt::serialization::archiveFrom(f);
-    out << *this;
-    const uint64_t bytes = f.getPosition();
-    f.close();
-    requireCompleteGzip(atomic.tempPath(), bytes, path);
-  }
-  atomic.commit();
+  writeGzArchive(path, *this, compressionLevel);
 }
 
 std::shared_ptr<CKeyframeGraphMap> CKeyframeGraphMap::loadFromFile(const std::string& path) {
@@ -303,15 +291,7 @@ void CKeyframeGraphMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) con
 void CKeyframeGraphMap::saveMetricMapRepresentationToFile(const std::string& prefix) const {
   mrpt::opengl::COpenGLScene scene;
   scene.insert(getVisualization());
-  const std::string path = prefix + ".3Dscene";
-  AtomicOutput atomic(path);
-  {
-    mrpt::io::CFileGZOutputStream f;
-    if (!f.open(atomic.tempPath())) throw std::runtime_error("cannot write '" + path + "'");
-    mrpt::serialization::archiveFrom(f) << scene;
-    f.close();
-  }
-  atomic.commit();
+  writeGzArchive(prefix + ".3Dscene", scene);
 }
 
 const mrpt::maps::CSimplePointsMap* CKeyframeGraphMap::getAsSimplePointsMap() const {

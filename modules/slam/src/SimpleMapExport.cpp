@@ -1,7 +1,6 @@
 #include <slamdunk/core/AtomicOutput.h>
 #include <slamdunk/slam/SimpleMapExport.h>
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
@@ -92,17 +91,7 @@ void exportSimpleMap(const KeyframeGraph& graph, const std::string& path, int po
                              std::to_string(graph.keyframeCount()) +
                              " keyframes kept its images (set keep_keyframe_images = true in "
                              "the [tracker] section)");
-  AtomicOutput atomic(path);
-  {
-    mrpt::io::CFileGZOutputStream f;
-    if (!f.open(atomic.tempPath()))
-      throw std::runtime_error("cannot write simple map '" + path + "'");
-    mrpt::serialization::archiveFrom(f) << map;
-    const uint64_t bytes = f.getPosition();
-    f.close();
-    requireCompleteGzip(atomic.tempPath(), bytes, path);
-  }
-  atomic.commit();
+  writeGzArchive(path, map);
 }
 
 }  // namespace slamdunk

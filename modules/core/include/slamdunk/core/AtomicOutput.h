@@ -7,6 +7,10 @@
 #include <utility>
 #include <vector>
 
+namespace mrpt::serialization {
+class CSerializable;
+}
+
 namespace slamdunk {
 
 class AtomicOutput {
@@ -98,6 +102,12 @@ void requireWritableFolder(const std::string& target);
 /// (CFileGZOutputStream::getPosition() before close()).
 void requireCompleteGzip(const std::string& path, uint64_t uncompressedBytes,
                          const std::string& target);
+
+/// Writes `object` as MRPT's gzip-compressed archive (what its `.gridmap`, `.simplemap` and
+/// `.3Dscene` readers take) to `path` through an AtomicOutput, checked by requireCompleteGzip().
+/// Throws std::runtime_error naming `path` when it cannot be opened or is cut short.
+void writeGzArchive(const std::string& path, const mrpt::serialization::CSerializable& object,
+                    int compressionLevel = 1);
 
 /// Why writing `target` may have failed, as far as can be told afterwards: the free space left
 /// on its filesystem, and the process's file size limit (ulimit -f) if it has one.
