@@ -13,7 +13,8 @@
 # tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
 # walking pace (about a minute to render, once); tour_drift_handheld: tour_drift with the
 # hand-held camera's effects too (motion blur, rolling shutter, auto exposure, depth 5 ms late;
-# several minutes to render, once).
+# several minutes to render, once); tour_drift_handheld_bare: tour_drift_handheld with the
+# corridor from room B to room C painted almost plain (--bare-corridor: 7 m with few features).
 # Then two sessions of one walk (exact depth): the first maps part of the tour, the second starts
 # where that map does not reach and walks into it; prints whether it joined and how far the
 # joined map's keyframes are from the ground truth in the first session's frame
@@ -38,6 +39,7 @@ render() {  # render NAME FRAMES [SYNTHETIC-RGBD ARGS]
 render tour_drift 1100
 render tour_drift_full 3300
 render tour_drift_handheld 1100 --hand-held
+render tour_drift_handheld_bare 1100 --hand-held --bare-corridor
 session() {  # session NAME FRAMES SKIP FIRST: a stretch of the tour, exact depth
   [ -f "$work/$1.rawlog" ] ||
     "$bin/synthetic-rgbd" "$work/$1.rawlog" --trajectory tour --frames "$2" --skip-frames "$3" \
@@ -90,7 +92,7 @@ keys=(ate_rmse_m place_loops place_lookup_ms_p50 place_lookup_ms_max loop_correc
 parts=${PARTS:-drift live sessions aliasing}
 part() { [[ " $parts " == *" $1 "* ]]; }
 
-for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld}; do
+for name in ${SEQUENCES:-tour_drift tour_drift_full tour_drift_handheld tour_drift_handheld_bare}; do
   part drift || continue
   rawlog=$work/$name.rawlog gt=$work/${name}_groundtruth.txt
   echo "## $name ($runs runs)"

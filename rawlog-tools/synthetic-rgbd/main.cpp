@@ -59,6 +59,12 @@ int main(int argc, char** argv) {
         "tour: the office's room C built as a copy of room A (its walls and boxes, turned half a "
         "turn): the same views in two rooms 20 m apart",
         cmd);
+    TCLAP::SwitchArg argBareCorridor(
+        "", "bare-corridor",
+        "tour: the corridor from room B to room C painted almost plain (a tenth of the usual "
+        "texture on its walls, floor and ceiling; its two cabinets keep theirs): 7 m with few "
+        "features",
+        cmd);
     TCLAP::ValueArg<unsigned> argSeed("s", "seed", "texture (and depth noise) seed", false, 1, "S",
                                       cmd);
     TCLAP::ValueArg<std::string> argGt(
@@ -128,6 +134,7 @@ int main(int argc, char** argv) {
     opts.firstFrames = argFirstFrames.getValue();
     opts.skipFrames = argSkipFrames.getValue();
     opts.twinRooms = argTwinRooms.getValue();
+    opts.bareCorridor = argBareCorridor.getValue();
     opts.seed = argSeed.getValue();
     opts.depthNoiseSigma = argNoise.getValue();
     opts.kinectDepth = argKinect.getValue();

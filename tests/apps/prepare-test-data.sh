@@ -91,6 +91,9 @@ start_job synthetic synthetic_loop_lap2 loop --frames 330 --external-images --jp
 # active window can close at the return (loop closing's test).
 start_job synthetic tour_drift tour --frames 1100 --kinect-depth --stated-focal-error 3 \
   --external-images --jpeg-quality 95 --supersampling 1
+# The same with the corridor from B to C painted almost plain: 7 m with few features.
+start_job synthetic tour_drift_bare tour --frames 1100 --kinect-depth --stated-focal-error 3 \
+  --bare-corridor --external-images --jpeg-quality 95 --supersampling 1
 # Two sessions of one walk through the office (the tour's frames 250-499, then 100-399): the
 # second starts where the first one's map does not reach, and walks into it 4 m later.
 start_job synthetic tour_session1 tour --frames 1100 --skip-frames 250 --first-frames 250 \

@@ -350,6 +350,62 @@ TEST(SyntheticSequence, TourFramesSeeTexturedSurfacesEverywhere) {
   }
 }
 
+TEST(FloorPlan, ABareAreaIsPaintedAlmostPlainWithItsWalls) {
+  const FloorPlan office = FloorPlan::office();
+  const FloorPlan bare = FloorPlan::withBareArea(office, "corridor B-C", 0.02);
+  ASSERT_EQ(bare.walls.size(), office.walls.size());
+  const FloorArea* corridor = nullptr;
+  for (const FloorArea& a : bare.areas) {
+    if (a.name == "corridor B-C") corridor = &a;
+    EXPECT_EQ(a.textureDetail, a.name == "corridor B-C" ? 0.02 : 1.0) << a.name;
+  }
+  ASSERT_NE(corridor, nullptr);
+  double bareLength = 0;
+  for (const WallPanel& w : bare.walls) {
+    if (w.textureDetail == 1.0) continue;
+    bareLength += w.length();
+    for (const auto& [x, z] : {std::pair{w.x0, w.z0}, std::pair{w.x1, w.z1}}) {
+      EXPECT_TRUE(std::abs(x - corridor->xMin) < 1e-9 || std::abs(x - corridor->xMax) < 1e-9);
+      EXPECT_GE(z, corridor->zMin - 1e-9);
+      EXPECT_LE(z, corridor->zMax + 1e-9);
+    }
+  }
+  // Its two long sides, nothing of the rooms it joins.
+  EXPECT_NEAR(bareLength, 2 * (corridor->zMax - corridor->zMin), 1e-9);
+  EXPECT_EQ(bare.boxes.size(), office.boxes.size());
+  EXPECT_THROW(FloorPlan::withBareArea(office, "corridor A-C", 0.1), std::invalid_argument);
+}
+
+TEST(SyntheticSequence, TheBareCorridorGivesFewKeypoints) {
+  // The tour's frame in the middle of the corridor from B to C, with and without its paint:
+  // fewer than half the keypoints, most of them on the corridor's cabinets.
+  SyntheticOptions o;
+  o.trajectory = "tour";
+  o.supersampling = 1;
+  SyntheticSequence textured(o);
+  o.bareCorridor = true;
+  SyntheticSequence bare(o);
+  EXPECT_EQ(bare.scene().plan().name, "office with a bare corridor B-C");
+  size_t i = 0;
+  while (i < bare.size()) {
+    const Eigen::Vector3d p = bare.groundTruth()[i].pose.translation();
+    if (std::abs(p.x() - 16.0) < 0.5 && p.z() > 6.0) break;
+    ++i;
+  }
+  ASSERT_LT(i, bare.size()) << "the tour no longer walks the corridor from B to C";
+  cv::Mat bgr, depth;
+  textured.renderImages(i, bgr, depth);
+  const size_t before = test::keypointSpread(bgr).keypoints;
+  bare.renderImages(i, bgr, depth);
+  const size_t after = test::keypointSpread(bgr).keypoints;
+  std::printf("[ bare corridor ] frame %zu: %zu ORB keypoints, %zu textured\n", i, after, before);
+  EXPECT_LT(after, before / 2);
+  EXPECT_GT(after, 0u) << "the corridor's cabinets keep their texture";
+
+  o.trajectory = "loop";
+  EXPECT_THROW(SyntheticSequence{o}, std::invalid_argument);
+}
+
 TEST(SyntheticRgbdTool, TourWithKinectDepthAndExternalImagesIsDeterministic) {
   // The tour through the command line with the options a benchmark uses, twice: the same
   // files, byte for byte (textures, Kinect noise).

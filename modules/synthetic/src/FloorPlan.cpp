@@ -222,6 +222,29 @@ FloorPlan FloorPlan::officeWithTwinRooms() {
   return plan;
 }
 
+FloorPlan FloorPlan::withBareArea(FloorPlan plan, const std::string& areaName, double detail) {
+  const auto area = std::find_if(plan.areas.begin(), plan.areas.end(),
+                                 [&](const FloorArea& a) { return a.name == areaName; });
+  if (area == plan.areas.end())
+    throw std::invalid_argument("no area '" + areaName + "' in the " + plan.name + " plan");
+  area->textureDetail = detail;
+  const double e = 1e-9;
+  for (WallPanel& w : plan.walls) {
+    // A panel on the area's boundary: both ends on it, on one of its four sides.
+    const bool alongX = std::abs(w.z0 - w.z1) < e &&
+                        (std::abs(w.z0 - area->zMin) < e || std::abs(w.z0 - area->zMax) < e) &&
+                        std::min(w.x0, w.x1) >= area->xMin - e &&
+                        std::max(w.x0, w.x1) <= area->xMax + e;
+    const bool alongZ = std::abs(w.x0 - w.x1) < e &&
+                        (std::abs(w.x0 - area->xMin) < e || std::abs(w.x0 - area->xMax) < e) &&
+                        std::min(w.z0, w.z1) >= area->zMin - e &&
+                        std::max(w.z0, w.z1) <= area->zMax + e;
+    if (alongX || alongZ) w.textureDetail = detail;
+  }
+  plan.name += " with a bare " + areaName;
+  return plan;
+}
+
 std::vector<std::string> FloorPlan::names() { return {"room", "office"}; }
 
 FloorPlan FloorPlan::named(const std::string& name) {

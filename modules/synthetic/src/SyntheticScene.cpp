@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <utility>
@@ -170,21 +171,23 @@ void addBox(mrpt::opengl::CSetOfObjects& scene, const RoomBox& box, const cv::Ma
 
 }  // namespace
 
-cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed) {
+cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed, double detail) {
   // cv::RNG is a fixed multiply-with-carry generator: the same seed gives the same texture on
   // every platform and run. Mix the seed so that nearby seeds give unrelated sequences.
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL);
   const int w = width, h = height;
 
-  // 1. Smooth background: a coarse random colour grid interpolated to full size.
+  // 1. Smooth background: a coarse random colour grid interpolated to full size (softer on a
+  // surface of less detail, as paint is).
   cv::Mat coarse(std::max(2, h / 96), std::max(2, w / 96), CV_8UC3);
-  rng.fill(coarse, cv::RNG::UNIFORM, 30, 225);
+  const double spread = 97.5 * (1 - 0.7 * (1 - std::clamp(detail, 0.0, 1.0)));
+  rng.fill(coarse, cv::RNG::UNIFORM, 127.5 - spread, 127.5 + spread);
   cv::Mat tex;
   cv::resize(coarse, tex, cv::Size(w, h), 0, 0, cv::INTER_CUBIC);
 
   // 2. Shapes at several scales; counts scale with the area so the density is the same on
   // every surface. Large shapes first so smaller ones land on top of them.
-  const double area = double(w) * h;
+  const double area = double(w) * h * detail;
   const int unit = std::max(8, std::min(w, h) / 16);  // "large" shape size in texels
   for (int i = 0; i < int(area / 60000); ++i) drawRotatedRect(tex, rng, unit, 4 * unit);
   for (int i = 0; i < int(area / 60000); ++i) drawEllipse(tex, rng, unit, 3 * unit);
@@ -232,8 +235,8 @@ SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
   for (const auto& w : plan_.walls) {
     ++textureId;
     const uint64_t seedOfWall = w.textureOf >= 0 ? firstWall + uint64_t(w.textureOf) : textureId;
-    auto obj = texturedObject(
-        makeTexture(texelsFor(w.length(), kTexelMetres), wallTexelsHigh, seedOfWall));
+    auto obj = texturedObject(makeTexture(texelsFor(w.length(), kTexelMetres), wallTexelsHigh,
+                                          seedOfWall, w.textureDetail));
     const TPoint3Df topLeft(float(w.x0), yc, float(w.z0)), topRight(float(w.x1), yc, float(w.z1));
     addQuad(*obj, topLeft, topRight, {topRight.x, yf, topRight.z}, {topLeft.x, yf, topLeft.z});
     scene.insert(obj);
@@ -241,7 +244,7 @@ SyntheticScene::SyntheticScene(FloorPlan plan, unsigned seed, bool withCeiling)
   // Floors and ceilings: texture columns along +x; rows along -z on the floor, +z above.
   auto areaTexture = [&](const FloorArea& a, double metresPerTexel) {
     return makeTexture(texelsFor(a.xMax - a.xMin, metresPerTexel),
-                       texelsFor(a.zMax - a.zMin, metresPerTexel), ++textureId);
+                       texelsFor(a.zMax - a.zMin, metresPerTexel), ++textureId, a.textureDetail);
   };
   for (const auto& a : plan_.areas) {
     const float x0 = float(a.xMin), x1 = float(a.xMax), z0 = float(a.zMin), z1 = float(a.zMax);

@@ -105,6 +105,9 @@ void SyntheticOptions::validate() const {
   if (twinRooms && SyntheticTrajectory::sceneOf(trajectory) != "office")
     throw std::invalid_argument("twin rooms are the office's: trajectory 'tour' only, not '" +
                                 trajectory + "'");
+  if (bareCorridor && SyntheticTrajectory::sceneOf(trajectory) != "office")
+    throw std::invalid_argument("the bare corridor is the office's: trajectory 'tour' only, not '" +
+                                trajectory + "'");
   if (skipFrames < 0)
     throw std::invalid_argument("skipped frames must be 0 or more, not " +
                                 std::to_string(skipFrames));
@@ -156,9 +159,11 @@ SyntheticSequence::SyntheticSequence(const SyntheticOptions& options) : options_
     groundTruth_.resize(size_t(options_.firstFrames));
   poseAt_ = SyntheticTrajectory::shape(options_.trajectory, options_.frames);
   const std::string scene = SyntheticTrajectory::sceneOf(options_.trajectory);
-  scene_ = std::make_unique<SyntheticScene>(
-      options_.twinRooms ? FloorPlan::officeWithTwinRooms() : FloorPlan::named(scene),
-      options_.seed, options_.ceiling);
+  FloorPlan plan = options_.twinRooms ? FloorPlan::officeWithTwinRooms() : FloorPlan::named(scene);
+  if (options_.bareCorridor)
+    plan = FloorPlan::withBareArea(std::move(plan), "corridor B-C",
+                                   SyntheticOptions::kBareCorridorDetail);
+  scene_ = std::make_unique<SyntheticScene>(std::move(plan), options_.seed, options_.ceiling);
   renderer_ = std::make_unique<SyntheticRenderer>(options_.intrinsics(), options_.supersampling);
 }
 

@@ -41,6 +41,9 @@ struct OfficeLayout {
 struct FloorArea {
   std::string name;
   double xMin = 0, xMax = 0, zMin = 0, zMax = 0;
+  /// Share of the usual texture detail on its floor and ceiling (1: all; see
+  /// SyntheticScene::makeTexture).
+  double textureDetail = 1.0;
 };
 
 /// A vertical wall from the floor to the ceiling above the segment (x0, z0) -> (x1, z1), which
@@ -50,6 +53,7 @@ struct WallPanel {
   /// Index in the plan's walls of a panel of the same length whose texture this one repeats
   /// (a repeated structure); -1: its own texture.
   int textureOf = -1;
+  double textureDetail = 1.0;  ///< as FloorArea's
   double length() const;
 };
 
@@ -83,6 +87,11 @@ struct FloorPlan {
   /// seen from C, with A's textures. The tour sees the same views in A and in C: two identical
   /// rooms 20 m apart, for testing that they are not taken for one place.
   static FloorPlan officeWithTwinRooms();
+  /// The same plan with the named area's floor, ceiling and walls (the panels on its boundary)
+  /// painted almost plain: `detail` of the usual texture's shapes (its boxes keep theirs). A
+  /// stretch where a camera finds few features. Throws std::invalid_argument for an unknown
+  /// area.
+  static FloorPlan withBareArea(FloorPlan plan, const std::string& area, double detail);
   static std::vector<std::string> names();
   /// Throws std::invalid_argument for an unknown name.
   static FloorPlan named(const std::string& name);

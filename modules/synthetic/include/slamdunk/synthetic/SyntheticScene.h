@@ -41,7 +41,9 @@ class SyntheticScene {
   const std::vector<RoomBox>& boxes() const { return plan_.boxes; }
 
   /// Rich, non-repetitive procedural texture (8-bit BGR), a pure function of its arguments.
-  static cv::Mat makeTexture(int width, int height, uint64_t seed);
+  /// `detail` scales how many shapes are drawn on its smooth background (1: all of them; 0: a
+  /// plain painted surface with its fine grain).
+  static cv::Mat makeTexture(int width, int height, uint64_t seed, double detail = 1.0);
 
  private:
   FloorPlan plan_;

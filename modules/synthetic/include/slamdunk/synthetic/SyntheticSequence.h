@@ -61,6 +61,10 @@ struct SyntheticOptions {
   bool ceiling = true;
   /// The office's room C a copy of room A (FloorPlan::officeWithTwinRooms): 'tour' only.
   bool twinRooms = false;
+  /// The office's corridor from B to C painted almost plain (FloorPlan::withBareArea with
+  /// kBareCorridorDetail): a 7 m stretch of the tour with few features. 'tour' only.
+  bool bareCorridor = false;
+  static constexpr double kBareCorridorDetail = 0.02;
 
   CameraIntrinsics intrinsics() const;        ///< the rendering's (the true camera)
   CameraIntrinsics statedIntrinsics() const;  ///< what the observations say (see above)
