@@ -1,9 +1,8 @@
 #include "RunWindow.h"
 
-#include <dlfcn.h>
+#include <slamdunk/core/Plugin.h>
 
 #include <filesystem>
-#include <stdexcept>
 #include <vector>
 
 namespace slamdunk {
@@ -21,25 +20,10 @@ std::vector<std::filesystem::path> pluginCandidates() {
 
 RunWindow::RunWindow(apps::RawlogSlamRun& run, bool paused,
                      std::function<void(const std::string&)> log) {
-  std::string tried;
-  for (const std::filesystem::path& path : pluginCandidates()) {
-    if (!std::filesystem::exists(path)) continue;
-    // Never unloaded: MRPT's GUI thread, which outlives the window, may still run its code.
-    plugin_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
-    if (plugin_) break;
-    tried += std::string("; ") + dlerror();
-  }
-  if (!plugin_)
-    throw std::runtime_error(std::string("--gui: no viewer plug-in ") + SLAMDUNK_RUN_WINDOW_PLUGIN +
-                             " beside the program (a build without slamdunk::viewer, which "
-                             "needs X11)" +
-                             tried);
-  const auto open = reinterpret_cast<OpenRunWindowFunction>(dlsym(plugin_, kOpenRunWindowSymbol));
-  if (!open) {
-    dlclose(plugin_);
-    throw std::runtime_error(std::string("--gui: ") + SLAMDUNK_RUN_WINDOW_PLUGIN + " has no " +
-                             kOpenRunWindowSymbol);
-  }
+  // Never unloaded: MRPT's GUI thread, which outlives the window, may still run its code.
+  const auto open = reinterpret_cast<OpenRunWindowFunction>(
+      loadPluginSymbol(pluginCandidates(), kOpenRunWindowSymbol,
+                       "--gui (the viewer; a build without X11 has none)"));
   backend_.reset(open(run, paused, std::move(log)));
 }
 

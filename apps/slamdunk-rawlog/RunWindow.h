@@ -36,7 +36,6 @@ class RunWindow {
   void waitUntilClosed() { backend_->waitUntilClosed(); }
 
  private:
-  void* plugin_ = nullptr;  ///< dlopen handle
   std::unique_ptr<RunWindowBackend> backend_;
 };
 

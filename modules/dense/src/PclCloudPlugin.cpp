@@ -4,6 +4,8 @@
 
 #include "PclCloudFunctions.h"
 
+#include <slamdunk/core/Plugin.h>
+
 #include <dlfcn.h>
 
 #include <filesystem>
@@ -18,18 +20,11 @@ const PclCloudFunctions& pclFunctions() {
     Dl_info self{};
     if (!dladdr(reinterpret_cast<void*>(&haveDenseFileOutputs), &self) || !self.dli_fname)
       throw std::runtime_error("dense outputs: cannot locate libslamdunk_dense");
-    const std::filesystem::path path =
-        std::filesystem::path(self.dli_fname).parent_path() / kPclCloudPlugin;
-    // Never unloaded: PCL keeps static state for the process' life.
-    void* plugin = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
-    if (!plugin)
-      throw std::runtime_error("dense outputs: cannot load the PCL plug-in '" + path.string() +
-                               "': " + dlerror());
+    // PCL keeps static state for the process' life: the plug-in is never unloaded.
     using Entry = const PclCloudFunctions* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(plugin, kPclCloudFunctionsSymbol));
-    if (!entry)
-      throw std::runtime_error("dense outputs: '" + path.string() + "' has no " +
-                               kPclCloudFunctionsSymbol);
+    const auto entry = reinterpret_cast<Entry>(
+        loadPluginSymbol({std::filesystem::path(self.dli_fname).parent_path() / kPclCloudPlugin},
+                         kPclCloudFunctionsSymbol, "dense outputs (PCL)"));
     return entry();
   }();
   return *functions;
