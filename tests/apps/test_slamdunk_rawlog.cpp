@@ -147,17 +147,38 @@ TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthOptimizationBeatsTrackingAlone)
 
 // ------------------------------------------------------------------ loop closing
 
+namespace {
+/// How far the trajectory's return is off its start, against the ground truth's: the error of
+/// the motion from the first pose to the last (scripts/loop-return-error.py), in metres and
+/// degrees. Every frame tracked: the first and last poses are the ground truth's first and last.
+std::pair<double, double> returnError(const std::string& trajectory, const std::string& rawlog) {
+  const Trajectory t = readTumTrajectory(trajectory);
+  const Trajectory gt = readTumTrajectory(test::groundTruthOf(rawlog));
+  if (t.size() < 2 || gt.size() < 2) return {1e9, 1e9};
+  EXPECT_NEAR(t.front().timestamp, gt.front().timestamp, 1e-6);
+  EXPECT_NEAR(t.back().timestamp, gt.back().timestamp, 1e-6);
+  const Pose estimated = t.front().pose.inverse() * t.back().pose;
+  const Pose truth = gt.front().pose.inverse() * gt.back().pose;
+  return {translationDistance(estimated, truth), rotationDistance(estimated, truth) * 180 / M_PI};
+}
+
+/// The tour with local optimization alone (no place recognition), every frame tracked.
+SlamRun withoutLoopClosing(const std::string& rawlog, const std::string& dirName) {
+  const std::string dir = test::scratchDir(dirName);
+  SlamRun r = runSlam(rawlog, dir, configWith(dir, "[loop_closing]\nenabled = false\n"));
+  expectEveryFrameTracked(r, 1100, 1.0);
+  EXPECT_EQ(r.value("loop_closures"), 0) << r.result.output;
+  return r;
+}
+}  // namespace
+
 // The office tour through a camera whose stated focal length is 3 % off its true one: the
 // odometry drifts by decimetres, and at the return the active window no longer holds the first
 // keyframes. Place recognition finds the loop, and its correction at least halves the ATE,
 // inline (deterministic: two runs, one trajectory) and on the optimizer's thread.
 TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
   REQUIRE_RAWLOG(rawlog, "tour_drift");
-  const std::string localDir = test::scratchDir("Loops_TourDrift_Local");
-  const SlamRun local =
-      runSlam(rawlog, localDir, configWith(localDir, "[loop_closing]\nenabled = false\n"));
-  expectEveryFrameTracked(local, 1100, 1.0);
-  EXPECT_EQ(local.value("loop_closures"), 0) << local.result.output;
+  const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourDrift_Local");
   EXPECT_GT(local.value("ate_rmse_m"), 0.2) << "the data no longer needs a loop correction";
   // At the return the window's pool holds the first keyframes 1.1 m off: the frames still
   // register by their features (against the keyframes near their reference), not by depth.
@@ -177,31 +198,12 @@ TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
   EXPECT_LT(thread.value("ate_rmse_m"), 0.5 * local.value("ate_rmse_m")) << thread.result.output;
 }
 
-namespace {
-/// How far the trajectory's return is off its start, against the ground truth's: the error of
-/// the motion from the first pose to the last (scripts/loop-return-error.py), in metres and
-/// degrees. Every frame tracked: the first and last poses are the ground truth's first and last.
-std::pair<double, double> returnError(const std::string& trajectory, const std::string& rawlog) {
-  const Trajectory t = readTumTrajectory(trajectory);
-  const Trajectory gt = readTumTrajectory(test::groundTruthOf(rawlog));
-  if (t.size() < 2 || gt.size() < 2) return {1e9, 1e9};
-  EXPECT_NEAR(t.front().timestamp, gt.front().timestamp, 1e-6);
-  EXPECT_NEAR(t.back().timestamp, gt.back().timestamp, 1e-6);
-  const Pose estimated = t.front().pose.inverse() * t.back().pose;
-  const Pose truth = gt.front().pose.inverse() * gt.back().pose;
-  return {translationDistance(estimated, truth), rotationDistance(estimated, truth) * 180 / M_PI};
-}
-}  // namespace
-
 // The drifting tour with the corridor from B to C painted almost plain (7 m where a frame
 // finds fewer than half its usual features): tracked throughout, and the loop still found and
 // closed at its return.
 TEST(SlamdunkRawlogLoops, ATourWithABareCorridorIsTrackedAndClosed) {
   REQUIRE_RAWLOG(rawlog, "tour_drift_bare");
-  const std::string localDir = test::scratchDir("Loops_TourBare_Local");
-  const SlamRun local =
-      runSlam(rawlog, localDir, configWith(localDir, "[loop_closing]\nenabled = false\n"));
-  expectEveryFrameTracked(local, 1100, 1.0);
+  const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourBare_Local");
   const auto [localMetres, localDegrees] = returnError(local.trajectory, rawlog);
   EXPECT_TRUE(localMetres > 0.2 || localDegrees > 2)
       << "the data no longer needs a loop correction";
