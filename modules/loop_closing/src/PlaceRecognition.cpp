@@ -4,7 +4,9 @@
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 
 namespace slamdunk {
@@ -124,9 +126,10 @@ bool PlaceRecognition::plausibleDrift(const LoopHypothesis& h, const KeyframeGra
   // The path of the keyframes made between the loop's ends (ids grow with time).
   double path = 0;
   std::optional<Eigen::Vector3d> last;
-  for (KeyframeId id : graph.ids()) {
-    if (id < h.candidate || id > h.query) continue;
-    const Eigen::Vector3d p = graph.pose(id).translation();
+  const std::vector<KeyframeId> ids = graph.ids();  // sorted
+  for (auto it = std::lower_bound(ids.begin(), ids.end(), h.candidate);
+       it != ids.end() && *it <= h.query; ++it) {
+    const Eigen::Vector3d p = graph.pose(*it).translation();
     if (last) path += (p - *last).norm();
     last = p;
   }
@@ -138,14 +141,33 @@ bool PlaceRecognition::joinContradicted(const LoopHypothesis& h, const KeyframeG
   const std::map<KeyframeId, int> joining = graph.component(h.query);
   const std::map<KeyframeId, Pose> poses = graph.poses();
   const Pose toMap = poses.at(h.candidate) * h.T_candidate_query * poses.at(h.query).inverse();
+  // The map's keyframes by cells of the check's distance: those within it of a point are in
+  // the 27 cells around the point's (each cell's ids ascending, as the poses are).
+  using Cell = std::array<int64_t, 3>;
+  auto cellOf = [](const Eigen::Vector3d& p) {
+    return Cell{int64_t(std::floor(p.x() / kJoinCheckMetres)),
+                int64_t(std::floor(p.y() / kJoinCheckMetres)),
+                int64_t(std::floor(p.z() / kJoinCheckMetres))};
+  };
+  std::map<Cell, std::vector<KeyframeId>> cells;
+  for (const auto& [id, pose] : poses)
+    if (!joining.count(id)) cells[cellOf(pose.translation())].push_back(id);
   int checked = 0, failed = 0;
   for (const auto& [id, ring] : joining) {  // the oldest first: the farthest from the join
     const Pose inMap = toMap * poses.at(id);
+    std::vector<KeyframeId> near;
+    const Cell c = cellOf(inMap.translation());
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz)
+          if (auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz}); it != cells.end())
+            near.insert(near.end(), it->second.begin(), it->second.end());
+    std::sort(near.begin(), near.end());  // ties go to the newest, as over all poses in order
     std::optional<KeyframeId> nearest;
     double nearestMetres = kJoinCheckMetres;
-    for (const auto& [other, pose] : poses) {
-      if (joining.count(other) || rotationDistance(pose, inMap) * 180.0 / M_PI > kJoinCheckDegrees)
-        continue;
+    for (KeyframeId other : near) {
+      const Pose& pose = poses.at(other);
+      if (rotationDistance(pose, inMap) * 180.0 / M_PI > kJoinCheckDegrees) continue;
       const double metres = translationDistance(pose, inMap);
       if (metres <= nearestMetres) nearest = other, nearestMetres = metres;
     }
