@@ -61,9 +61,9 @@ int main(int argc, char** argv) {
         cmd);
     TCLAP::SwitchArg argBareCorridor(
         "", "bare-corridor",
-        "tour: the corridor from room B to room C painted almost plain (a tenth of the usual "
-        "texture on its walls, floor and ceiling; its two cabinets keep theirs): 7 m with few "
-        "features",
+        "tour: the corridor from room B to room C painted almost plain (2 % of the usual "
+        "texture's shapes on its walls, floor and ceiling; its two cabinets keep theirs): 7 m "
+        "with few features",
         cmd);
     TCLAP::ValueArg<unsigned> argSeed("s", "seed", "texture (and depth noise) seed", false, 1, "S",
                                       cmd);
