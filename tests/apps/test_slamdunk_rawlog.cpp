@@ -199,7 +199,7 @@ TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
 }
 
 // The drifting tour with the corridor from B to C painted almost plain (7 m where a frame
-// finds fewer than half its usual features): tracked throughout, and the loop still found and
+// finds far fewer features than elsewhere): tracked throughout, and the loop still found and
 // closed at its return.
 TEST(SlamdunkRawlogLoops, ATourWithABareCorridorIsTrackedAndClosed) {
   REQUIRE_RAWLOG(rawlog, "tour_drift_bare");
