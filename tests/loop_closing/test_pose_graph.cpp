@@ -83,6 +83,25 @@ TEST(PoseGraph, KeyframesAddedMeanwhileMoveWithTheNewest) {
                   .isApprox(newestBefore.inverse() * newcomerBefore, 1e-9));
 }
 
+// Live, the tracker adds a keyframe to the graph a moment before its edges. A correction whose
+// snapshot caught it in between must still carry it with the keyframes it is about to join,
+// not leave it where the drift put it (the rest of the ring 0.4 m away).
+TEST(PoseGraph, AKeyframeCaughtBeforeItsEdgesMovesWithTheNewestOptimized) {
+  const int n = 40;
+  KeyframeGraph graph;
+  buildRing(graph, drifted(n));
+  const Pose lastBefore = graph.pose(n - 1);
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = n;
+  graph.addKeyframe(kf, lastBefore * onRing(1, n));  // no edge yet
+  const Pose edgelessBefore = graph.pose(n);
+  const RelativePoseConstraint loop{0, n - 1, onRing(0, n).inverse() * onRing(n - 1, n)};
+  ASSERT_TRUE(optimizePoseGraph(graph, {loop}).usable);
+  EXPECT_GT(translationDistance(graph.pose(n - 1), lastBefore), 0.3);  // the ring moved
+  EXPECT_TRUE((graph.pose(n - 1).inverse() * graph.pose(n))
+                  .isApprox(lastBefore.inverse() * edgelessBefore, 1e-9));
+}
+
 TEST(PoseGraph, ALoopNamingAnUnknownKeyframeChangesNothing) {
   KeyframeGraph graph;
   buildRing(graph, drifted(5));

@@ -120,7 +120,9 @@ PoseGraphReport optimizePoseGraph(KeyframeGraph& graph,
     report.maxTranslationChange =
         std::max(report.maxTranslationChange, translationDistance(poses.at(id), pose));
   }
-  graph.applyCorrection(moved, poses.rbegin()->first);
+  // The newest keyframe it moved, not the snapshot's newest: that one may have been caught
+  // before its edges (a lone vertex, held as its own gauge) and must move with its neighbours.
+  if (!moved.empty()) graph.applyCorrection(moved, moved.rbegin()->first);
   report.usable = true;
   report.message = summary.BriefReport();
   report.timeMs = msSince(t0);

@@ -40,7 +40,8 @@ struct PoseGraphReport {
 
 /// Optimizes the poses of every keyframe of the graph, the oldest of each connected component
 /// (after adding the loops) held fixed, and writes them back at once; keyframes added while it
-/// ran move with the newest it optimized (KeyframeGraph::applyCorrection).
+/// ran, or caught in the snapshot before their edges, move with the newest it optimized
+/// (KeyframeGraph::applyCorrection).
 PoseGraphReport optimizePoseGraph(KeyframeGraph& graph,
                                   const std::vector<RelativePoseConstraint>& loops,
                                   const PoseGraphOptions& options = {});
