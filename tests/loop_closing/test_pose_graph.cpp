@@ -29,11 +29,16 @@ std::map<KeyframeId, Pose> drifted(int n) {
   return out;
 }
 
+/// A keyframe with no features or edges, as the tracker adds one before linking it.
+void addBareKeyframe(KeyframeGraph& graph, KeyframeId id, const Pose& pose) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = id;
+  graph.addKeyframe(kf, pose);
+}
+
 void buildRing(KeyframeGraph& graph, const std::map<KeyframeId, Pose>& poses) {
   for (const auto& [id, pose] : poses) {
-    auto kf = std::make_shared<Keyframe>();
-    kf->id = id;
-    graph.addKeyframe(kf, pose);
+    addBareKeyframe(graph, id, pose);
     if (id > 0)
       graph.addMatches(id - 1, id,
                        {PointMatch{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1), 1.0}});
@@ -73,9 +78,7 @@ TEST(PoseGraph, KeyframesAddedMeanwhileMoveWithTheNewest) {
   const Pose newcomerBefore = newestBefore * onRing(0, 10);  // anything, relative to 9
   std::map<KeyframeId, Pose> corrected = graph.poses();
   corrected[9] = onRing(9, 10);
-  auto kf = std::make_shared<Keyframe>();
-  kf->id = 10;
-  graph.addKeyframe(kf, newcomerBefore);
+  addBareKeyframe(graph, 10, newcomerBefore);
   graph.applyCorrection(corrected, 9);
   EXPECT_TRUE(graph.pose(9).isApprox(onRing(9, 10)));
   // Keyframe 10 keeps its pose relative to 9.
@@ -91,9 +94,7 @@ TEST(PoseGraph, AKeyframeCaughtBeforeItsEdgesMovesWithTheNewestOptimized) {
   KeyframeGraph graph;
   buildRing(graph, drifted(n));
   const Pose lastBefore = graph.pose(n - 1);
-  auto kf = std::make_shared<Keyframe>();
-  kf->id = n;
-  graph.addKeyframe(kf, lastBefore * onRing(1, n));  // no edge yet
+  addBareKeyframe(graph, n, lastBefore * onRing(1, n));  // no edge yet
   const Pose edgelessBefore = graph.pose(n);
   const RelativePoseConstraint loop{0, n - 1, onRing(0, n).inverse() * onRing(n - 1, n)};
   ASSERT_TRUE(optimizePoseGraph(graph, {loop}).usable);
