@@ -33,7 +33,8 @@ std::vector<LoopHypothesis> LoopClosing::detect(KeyframeId id) {
   return std::move(d.accepted);
 }
 
-void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise) {
+void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise,
+                          const std::function<void()>& linked) {
   if (loops.empty()) return;
   const auto t0 = SteadyClock::now();
   // The poses first, from the loops' relative poses alone: the matches' edges, added after,
@@ -46,7 +47,10 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
     constraints.push_back({h.candidate, h.query, h.T_candidate_query});
   }
   const PoseGraphReport poseGraph = optimizePoseGraph(*graph_, constraints, options_.poseGraph);
-  if (!poseGraph.usable) return;
+  if (!poseGraph.usable) {
+    if (linked) linked();  // a join may have moved a component already
+    return;
+  }
   for (const LoopHypothesis& h : loops) {
     const KeyframePtr candidate = graph_->keyframe(h.candidate);
     const KeyframePtr query = graph_->keyframe(h.query);
@@ -58,6 +62,7 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
                                           noise, edgeInformation_, keypointScaleSigma_));
     graph_->addMatches(h.candidate, h.query, matches);
   }
+  if (linked) linked();
   LocalOptimizerOptions o = optimizer_;
   o.noise = noise;
   const LocalOptimizer optimizer(o);

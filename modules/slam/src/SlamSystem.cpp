@@ -135,13 +135,16 @@ void SlamSystem::closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise) {
   if (!loopClosing_) return;
   const std::vector<LoopHypothesis> loops = loopClosing_->detect(keyframe);
   if (loops.empty()) return;
-  loopClosing_->correct(loops, noise);
-  // Joined to the map's first component, or to another one (checked on this rare event only:
-  // a walk over the whole graph). The tracker's next frame reports both at once. Asked of the
-  // loop's keyframe, whose edges are in the graph: the newest keyframe may have been added by
-  // the tracker a moment ago, before its edges, and would look apart from everything.
-  apartAfterCorrection_ = !graph_->connected(graph_->ids().front(), keyframe);
-  tracker_.notifyMapCorrected();
+  loopClosing_->correct(loops, noise, [&] {
+    // Joined to the map's first component, or to another one (checked on this rare event
+    // only: a walk over the whole graph). The tracker's next frame reports both at once. Asked
+    // of the loop's keyframe, whose edges are in the graph: the newest keyframe may have been
+    // added by the tracker a moment ago, before its edges, and would look apart from
+    // everything.
+    apartAfterCorrection_ = !graph_->connected(graph_->ids().front(), keyframe);
+    tracker_.notifyMapCorrected();
+  });
+  tracker_.notifyMapChanged();  // the bundle adjustments after the correction moved keyframes
 }
 
 void SlamSystem::finish() {

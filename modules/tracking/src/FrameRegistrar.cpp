@@ -130,6 +130,7 @@ Registration FrameRegistrar::registerFrame(const FeaturePool& pool, const RgbdFr
       translationDistance(pose, *lastTracked_) > options_.maxTranslationJump) {
     reg.failure =
         "implausible jump of " + std::to_string(translationDistance(pose, *lastTracked_)) + " m";
+    reg.implausibleJump = true;
     return reg;
   }
   reg.registered = true;

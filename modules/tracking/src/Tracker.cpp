@@ -165,6 +165,8 @@ std::optional<Registration> Tracker::registerByFeatures(const FeaturePool& pool,
   if (!startingFromMap) {
     Registration registration =
         registrar_.registerFrame(pool, frame, features, nullptr, timing_.velocityToEstimate());
+    if (auto moved = registerInMovedMap(pool, frame, features, registration))
+      registration = std::move(*moved);
     if (!registration && !lost_ && graph_->contains(lastReference_)) {
       // A pool holding keyframes far off where they should be (a drifted loop's first
       // keyframes, before its correction) can outvote the rest: try the matches of the
@@ -193,6 +195,26 @@ std::optional<Registration> Tracker::registerByFeatures(const FeaturePool& pool,
       (lost_ && framesLost_ + 1 >= static_cast<size_t>(options_.relocalizeAfter)))
     return relocalize(frame, features, r);
   return std::nullopt;
+}
+
+std::optional<Registration> Tracker::registerInMovedMap(const FeaturePool& pool,
+                                                        const RgbdFrame& frame,
+                                                        const FeatureSet& features,
+                                                        const Registration& refused) {
+  if (!refused.implausibleJump || lost_ || !graph_->contains(lastReference_)) return std::nullopt;
+  const Pose carried = orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
+  registrar_.newFrame(carried);  // and the keyframe poses read afresh
+  Registration again = registrar_.registerFrame(pool, frame, features, &refused.matches,
+                                                timing_.velocityToEstimate());
+  if (!again) {
+    registrar_.newFrame(lastPose_);
+    return std::nullopt;
+  }
+  again.matchingMs += refused.matchingMs;
+  again.ransacMs += refused.ransacMs;
+  lastPose_ = carried;
+  timing_.previousPoseMoved(carried);
+  return again;
 }
 
 std::optional<Registration> Tracker::relocalize(const RgbdFrame& frame, const FeatureSet& features,

@@ -9,6 +9,7 @@
 #include <slamdunk/optimization/LocalOptimizer.h>
 #include <slamdunk/tracking/TrackerOptions.h>
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -38,8 +39,12 @@ class LoopClosing {
   /// correct() run on one thread at a time (the back end's); statistics() from any.
   std::vector<LoopHypothesis> detect(KeyframeId id);
   /// Links and corrects the loops `detect()` accepted; nothing else may write poses meanwhile
-  /// (keyframes may be added: they move with the newest keyframe corrected).
-  void correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise);
+  /// (keyframes may be added: they move with the newest keyframe corrected). `linked` runs
+  /// once the corrected poses and the loops' links are in the graph, before the bundle
+  /// adjustments refine them: the tracker must follow the moved map from its next frame on,
+  /// not a correction's whole time later.
+  void correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise,
+               const std::function<void()>& linked = {});
   LoopClosingStatistics statistics() const;
   const LoopClosingOptions& options() const { return options_; }
 

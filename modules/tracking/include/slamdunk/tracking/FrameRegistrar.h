@@ -43,6 +43,8 @@ struct Registration {
   size_t inliers = 0;
   std::vector<cv::Point2f> inlierPixels, rejectedPixels;  ///< of the matches, for display
   std::string failure;
+  /// Refused only for jumping too far from the last tracked pose.
+  bool implausibleJump = false;
   /// Milliseconds matching and estimating, not yet reported in a TrackingResult: an attempt
   /// that replaces an accepted one takes over the latter's.
   double matchingMs = 0, ransacMs = 0;

@@ -71,6 +71,9 @@ class FrameTimingCompensation {
 
   /// The tracked frame's pose. `byFeatures` as above.
   void endFrame(const Pose& pose, bool byFeatures);
+  /// The map moved under the frame being processed (a loop correction landed meanwhile): its
+  /// motion is measured from the last pose as carried into the moved map.
+  void previousPoseMoved(const Pose& previousPose) { frame_.previousPose = previousPose; }
   void frameLost();
   /// A second keyframe: the first is no longer the only one, the early frames are not revised.
   void keyframeAdded();

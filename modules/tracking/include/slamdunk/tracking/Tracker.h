@@ -136,6 +136,13 @@ class Tracker {
   /// that fails, against the whole map when relocalization is due. Reports into `r`.
   std::optional<Registration> registerByFeatures(const FeaturePool& pool, const RgbdFrame& frame,
                                                  const FeatureSet& features, TrackingResult& r);
+  /// A registration refused as a jump may be a correction that moved the map after the frame
+  /// began (live, loops are corrected on the back end's thread, between any two reads of
+  /// poses): judged again from the last pose carried with its reference keyframe to where that
+  /// is now. Registered if so; then the frame's motion is measured from there too.
+  std::optional<Registration> registerInMovedMap(const FeaturePool& pool, const RgbdFrame& frame,
+                                                 const FeatureSet& features,
+                                                 const Registration& refused);
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   std::optional<Registration> relocalize(const RgbdFrame& frame, const FeatureSet& features,
                                          TrackingResult& r);
