@@ -65,7 +65,7 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 # sanitizers took 21 minutes of a CI run). `--all` builds and runs every test.
 source scripts/lib/test-subsets.sh
 ci_test_dirs=$sanitized_test_dirs
-ci_targets=(test_core test_tracking test_local_optimizer test_loop_closing test_keyframe_graph
+ci_targets=(test_core test_tracking test_tracker_data test_local_optimizer test_loop_closing test_keyframe_graph
   test_slam_options fuzz-readers test_live_module test_viewer)
 # Left out of the subset's binaries: whole sequences through SLAM (minutes each here, 10-45 times
 # their Release time); their code runs in the tests that stay.
