@@ -868,6 +868,9 @@ TEST(SlamdunkRawlogMaps, ASecondSessionOutsideTheMapJoinsIt) {
   for (const auto& g : readTumTrajectory(test::groundTruthOf(second))) groundTruth.push_back(g);
   const Trajectory keyframes = readTumTrajectory(dir + "/keyframes.txt");
   EXPECT_GT(keyframes.size(), a.value("keyframes")) << "the second session's keyframes";
+  // The map is in the first camera's frame: its first keyframe is the origin.
+  EXPECT_LT(translationDistance(keyframes.front().pose, Pose::Identity()), 1e-9);
+  EXPECT_LT(rotationDistance(keyframes.front().pose, Pose::Identity()), 1e-9);
   const auto [metres, degrees] =
       worstKeyframeErrorInMapFrame(keyframes, groundTruth, firstMapStart);
   std::cout << "joined map: " << keyframes.size() << " keyframes, worst " << metres << " m "

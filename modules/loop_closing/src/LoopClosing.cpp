@@ -1,5 +1,6 @@
 #include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/loop_closing/LoopClosing.h>
+#include <slamdunk/optimization/ComponentMotion.h>
 #include <slamdunk/tracking/KeyframeEdges.h>
 
 #include <algorithm>
@@ -33,35 +34,43 @@ std::vector<LoopHypothesis> LoopClosing::detect(KeyframeId id) {
   return std::move(d.accepted);
 }
 
+std::vector<PointMatch> LoopClosing::loopMatches(const LoopHypothesis& h,
+                                                 const DepthNoiseModel& noise) const {
+  std::vector<PointMatch> matches;
+  const KeyframePtr candidate = graph_->keyframe(h.candidate);
+  const KeyframePtr query = graph_->keyframe(h.query);
+  if (!candidate || !query) return matches;
+  for (const LoopHypothesis::Match& m : h.inliers)
+    matches.push_back(weighedPointMatch(candidate->features, m.candidateFeature, query->features,
+                                        m.queryFeature, m.ratio, h.T_candidate_query.linear(),
+                                        noise, edgeInformation_, keypointScaleSigma_));
+  return matches;
+}
+
 void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise,
                           const std::function<void()>& linked) {
   if (loops.empty()) return;
   const auto t0 = SteadyClock::now();
+  std::vector<std::vector<PointMatch>> matches;
+  for (const LoopHypothesis& h : loops) matches.push_back(loopMatches(h, noise));
+  const auto firstJoin =
+      std::find_if(loops.begin(), loops.end(), [](const LoopHypothesis& h) { return h.joins; });
+  const bool joined = firstJoin != loops.end();
+  if (joined) joinComponents(*firstJoin, loops, matches);  // its successors join the same two
   // The poses first, from the loops' relative poses alone: the matches' edges, added after,
   // then start the bundle adjustment close to where they agree.
   std::vector<RelativePoseConstraint> constraints;
-  bool joined = false;
-  for (const LoopHypothesis& h : loops) {
-    if (h.joins && !joined) joinComponents(h);  // its agreeing successors join the same two
-    joined = joined || h.joins;
-    constraints.push_back({h.candidate, h.query, h.T_candidate_query});
-  }
+  // A join's loops are not among them: the fit placed the newer component by all their
+  // matches, and a weak loop's relative pose would bend it again (docs/experiments.md).
+  for (const LoopHypothesis& h : loops)
+    if (!h.joins) constraints.push_back({h.candidate, h.query, h.T_candidate_query});
   const PoseGraphReport poseGraph = optimizePoseGraph(*graph_, constraints, options_.poseGraph);
   if (!poseGraph.usable) {
     if (linked) linked();  // a join may have moved a component already
     return;
   }
-  for (const LoopHypothesis& h : loops) {
-    const KeyframePtr candidate = graph_->keyframe(h.candidate);
-    const KeyframePtr query = graph_->keyframe(h.query);
-    if (!candidate || !query) continue;
-    std::vector<PointMatch> matches;
-    for (const LoopHypothesis::Match& m : h.inliers)
-      matches.push_back(weighedPointMatch(candidate->features, m.candidateFeature, query->features,
-                                          m.queryFeature, m.ratio, h.T_candidate_query.linear(),
-                                          noise, edgeInformation_, keypointScaleSigma_));
-    graph_->addMatches(h.candidate, h.query, matches);
-  }
+  for (size_t k = 0; k < loops.size(); ++k)
+    if (!matches[k].empty()) graph_->addMatches(loops[k].candidate, loops[k].query, matches[k]);
   if (linked) linked();
   LocalOptimizerOptions o = optimizer_;
   o.noise = noise;
@@ -76,18 +85,41 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
   stats_.correctionMs.push_back(msSince(t0));
 }
 
-void LoopClosing::joinComponents(const LoopHypothesis& loop) {
+void LoopClosing::joinComponents(const LoopHypothesis& loop,
+                                 const std::vector<LoopHypothesis>& loops,
+                                 const std::vector<std::vector<PointMatch>>& matches) {
   const std::map<KeyframeId, int> queryPart = graph_->component(loop.query);
   const std::map<KeyframeId, int> candidatePart = graph_->component(loop.candidate);
   if (queryPart.empty() || candidatePart.empty() || queryPart.count(loop.candidate)) return;
+  const std::map<KeyframeId, Pose> poses = graph_->poses();
   // Maps the query's component's frame into the candidate's, as the loop measured it.
   const Pose queryToCandidate =
-      graph_->pose(loop.candidate) * loop.T_candidate_query * graph_->pose(loop.query).inverse();
+      poses.at(loop.candidate) * loop.T_candidate_query * poses.at(loop.query).inverse();
   const bool queryNewer = queryPart.begin()->first > candidatePart.begin()->first;
   const std::map<KeyframeId, int>& moving = queryNewer ? queryPart : candidatePart;
-  const Pose move = queryNewer ? queryToCandidate : Pose(queryToCandidate.inverse());
+  Pose move = queryNewer ? queryToCandidate : Pose(queryToCandidate.inverse());
+  // Then fitted to the matches of every loop between the two parts at once.
+  std::vector<AnchoredMatches> anchored;
+  for (size_t k = 0; k < loops.size(); ++k) {
+    const LoopHypothesis& h = loops[k];
+    if (!queryPart.count(h.query) || !candidatePart.count(h.candidate)) continue;
+    if (queryNewer) {
+      anchored.push_back({poses.at(h.candidate), poses.at(h.query), matches[k]});
+    } else {
+      AnchoredMatches a{poses.at(h.query), poses.at(h.candidate), {}};
+      const Eigen::Matrix3d R = h.T_candidate_query.linear();
+      for (PointMatch m : matches[k]) {
+        std::swap(m.pointI, m.pointJ);
+        std::swap(m.featureI, m.featureJ);
+        m.information = R.transpose() * m.information * R;
+        a.matches.push_back(m);
+      }
+      anchored.push_back(std::move(a));
+    }
+  }
+  if (const std::optional<Pose> fitted = fitRigidMotion(anchored, move)) move = *fitted;
   std::map<KeyframeId, Pose> moved;
-  for (const auto& [id, pose] : graph_->poses())
+  for (const auto& [id, pose] : poses)
     if (moving.count(id)) moved[id] = orthonormalized(move * pose);
   // The tracker adds keyframes to the query's component: those added meanwhile move with it.
   if (queryNewer)

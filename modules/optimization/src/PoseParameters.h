@@ -13,6 +13,10 @@
 
 namespace slamdunk {
 
+/// A pose as Ceres parameters: quaternion (x, y, z, w), then translation.
+std::array<double, 7> poseValues(const Pose& pose);
+Pose poseFromValues(const std::array<double, 7>& values);
+
 class PoseParameters {
  public:
   PoseParameters(const std::map<KeyframeId, Pose>& poses, const std::set<KeyframeId>& fixed);

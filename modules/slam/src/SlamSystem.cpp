@@ -151,6 +151,16 @@ void SlamSystem::finish() {
   optimization_.waitUntilIdle();
   if (options_.globalPassAtEnd && graph_->keyframeCount() > 1)
     optimization_.optimizeWholeGraph(tracker_.noiseModel());
+  if (!options_.tracker.localizationOnly) holdTheMapInTheFirstCameraFrame();
+}
+
+void SlamSystem::holdTheMapInTheFirstCameraFrame() {
+  const std::map<KeyframeId, Pose> poses = graph_->poses();
+  if (poses.empty()) return;
+  const Pose back = poses.begin()->second.inverse();
+  std::map<KeyframeId, Pose> moved;
+  for (const auto& [id, pose] : poses) moved[id] = orthonormalized(back * pose);
+  graph_->setPoses(moved);
 }
 
 size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,

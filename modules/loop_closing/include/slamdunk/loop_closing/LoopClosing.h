@@ -50,9 +50,13 @@ class LoopClosing {
 
  private:
   /// A loop between two unconnected components: the one whose keyframes are newer moves
-  /// rigidly to where the loop puts it, in the older one's frame (a loaded map keeps its own),
-  /// before the pose graph spreads what is left.
-  void joinComponents(const LoopHypothesis& loop);
+  /// rigidly into the older one's frame (a loaded map keeps its own), by the motion that best
+  /// fits the matches of every loop in `loops` between the two at once (`matches`, one list
+  /// per loop); the pose graph then leaves those loops out.
+  void joinComponents(const LoopHypothesis& loop, const std::vector<LoopHypothesis>& loops,
+                      const std::vector<std::vector<PointMatch>>& matches);
+  /// The loop's inliers as graph matches, weighed as the tracker weighs its own.
+  std::vector<PointMatch> loopMatches(const LoopHypothesis& h, const DepthNoiseModel& noise) const;
 
   LoopClosingOptions options_;
   LocalOptimizerOptions optimizer_;
