@@ -62,8 +62,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (corrected_.exchange(false)) {
     r.loopCorrected = true;
     globalPoolKeyframes_ = 0;  // its points are where the keyframes were
-    if (graph_->contains(lastReference_))
-      lastPose_ = orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
+    if (graph_->contains(lastReference_)) lastPose_ = lastPoseInTodaysMap();
   }
   r.pose = lastPose_;
   registrar_.newFrame(lost_ ? std::nullopt : std::optional<Pose>(lastPose_));
@@ -202,7 +201,7 @@ std::optional<Registration> Tracker::registerInMovedMap(const FeaturePool& pool,
                                                         const FeatureSet& features,
                                                         const Registration& refused) {
   if (!refused.implausibleJump || lost_ || !graph_->contains(lastReference_)) return std::nullopt;
-  const Pose carried = orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
+  const Pose carried = lastPoseInTodaysMap();
   registrar_.newFrame(carried);  // and the keyframe poses read afresh
   Registration again = registrar_.registerFrame(pool, frame, features, &refused.matches,
                                                 timing_.velocityToEstimate());
@@ -215,6 +214,10 @@ std::optional<Registration> Tracker::registerInMovedMap(const FeaturePool& pool,
   lastPose_ = carried;
   timing_.previousPoseMoved(carried);
   return again;
+}
+
+Pose Tracker::lastPoseInTodaysMap() const {
+  return orthonormalized(graph_->pose(lastReference_) * lastPoseInReference_);
 }
 
 std::optional<Registration> Tracker::relocalize(const RgbdFrame& frame, const FeatureSet& features,

@@ -143,6 +143,9 @@ class Tracker {
   std::optional<Registration> registerInMovedMap(const FeaturePool& pool, const RgbdFrame& frame,
                                                  const FeatureSet& features,
                                                  const Registration& refused);
+  /// The last tracked pose carried with its reference keyframe to where that keyframe is now
+  /// (which the graph must hold).
+  Pose lastPoseInTodaysMap() const;
   /// Tries the whole map when the local window does not match (lost, or a loaded map).
   std::optional<Registration> relocalize(const RgbdFrame& frame, const FeatureSet& features,
                                          TrackingResult& r);
