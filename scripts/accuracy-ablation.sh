@@ -31,6 +31,9 @@ configs=(
   "keyframes culled (keyframe_cull_share = 0.6)|keyframe_cull_share=0.6"
   "keyframes culled (keyframe_cull_share = 0.7)|keyframe_cull_share=0.7"
   "more ratio-test neighbours (knn_neighbours = 8)|knn_neighbours=8"
+  "no pool budget (pool_budget = 0)|pool_budget=0"
+  "pool budget 12,000 (pool_budget = 12000)|pool_budget=12000"
+  "pool budget 8,000 (pool_budget = 8000)|pool_budget=8000"
   "all of edge, not learned, no velocity, angle 0|residual_form=edge estimate_keypoint_noise=false estimate_rolling_shutter=false estimate_frame_velocity=false window_shift_angle=0"
 )
 

@@ -33,6 +33,7 @@ LocalMapOptions options(bool background, int handover, PoolIndexType index = Poo
   o.backgroundPreparation = background;
   o.handoverFrames = handover;
   o.pool.index = index;
+  o.pool.budget = 0;  // every feature: some tests need an index that takes long to build
   return o;
 }
 

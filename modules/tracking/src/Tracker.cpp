@@ -352,10 +352,11 @@ const FeaturePool& Tracker::wholeMapPool(const CameraIntrinsics& K, TrackingResu
   const auto t = SteadyClock::now();
   const size_t keyframes = graph_->keyframeCount() + graph_->culledCount();  // ever made
   if (globalPool_.size() == 0 || globalPoolKeyframes_ != keyframes) {
-    // No frustum: the camera may be anywhere in the map. Built here, not in the background:
-    // only a lost camera needs it.
+    // No frustum and no budget: the camera may be anywhere in the map, looking anywhere.
+    // Built here, not in the background: only a lost camera needs it.
     FeaturePoolOptions o = options_.localMap.pool;
     o.frustumFilter = false;
+    o.budget = 0;
     globalPool_ = FeaturePool(o);
     globalPool_.build(*graph_, graph_->ids(), Pose::Identity(), K);
     globalPoolKeyframes_ = keyframes;
