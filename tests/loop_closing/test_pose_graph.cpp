@@ -1,5 +1,6 @@
 // The pose graph a loop correction starts with: a ring of keyframes whose odometry drifted is
 // pulled back onto the truth by one loop constraint, and keyframes added meanwhile follow.
+#include <slamdunk/loop_closing/LoopClosing.h>
 #include <slamdunk/optimization/PoseGraphOptimizer.h>
 
 #include <gtest/gtest.h>
@@ -111,4 +112,47 @@ TEST(PoseGraph, ALoopNamingAnUnknownKeyframeChangesNothing) {
   EXPECT_FALSE(report.usable);
   EXPECT_NE(report.message.find("does not hold"), std::string::npos);
   for (const auto& [id, pose] : graph.poses()) EXPECT_EQ(pose.matrix(), before.at(id).matrix());
+}
+
+bool samePoses(const std::map<KeyframeId, Pose>& a, const std::map<KeyframeId, Pose>& b) {
+  if (a.size() != b.size()) return false;
+  for (const auto& [id, pose] : a)
+    if (!b.count(id) || pose.matrix() != b.at(id).matrix()) return false;
+  return true;
+}
+
+// Live, a correction is solved beside the tracker and written at once where the caller says
+// (between two frames): until then every frame reads the map as it was, and a keyframe the
+// tracker added meanwhile moves with the newest keyframe corrected.
+TEST(LoopClosing, ACorrectionTouchesTheMapOnlyWhenItIsWritten) {
+  const int n = 40;
+  auto graph = std::make_shared<KeyframeGraph>();
+  buildRing(*graph, drifted(n));
+  const std::map<KeyframeId, Pose> before = graph->poses();
+  LoopClosing closing(LoopClosingOptions{}, LocalOptimizerOptions{}, TrackerOptions{}, graph);
+  LoopHypothesis loop;
+  loop.candidate = 0;
+  loop.query = n - 1;
+  loop.T_candidate_query = onRing(0, n).inverse() * onRing(n - 1, n);
+
+  const double drift = largestError(*graph, n);
+  ASSERT_GT(drift, 0.3);  // the data needs the correction
+
+  bool untouchedUntilWritten = false, newcomerFollowed = false;
+  double errorWhenWritten = 0;
+  closing.correct({loop}, DepthNoiseModel{}, [&](const std::function<void()>& write) {
+    untouchedUntilWritten = samePoses(graph->poses(), before);
+    addBareKeyframe(*graph, n, graph->pose(n - 1) * onRing(1, n));
+    const Pose newcomerRelative = graph->pose(n - 1).inverse() * graph->pose(n);
+    write();
+    for (int id = 0; id < n; ++id)  // the ring; the newcomer has no place on it
+      errorWhenWritten =
+          std::max(errorWhenWritten, translationDistance(graph->pose(id), onRing(id, n)));
+    newcomerFollowed =
+        (graph->pose(n - 1).inverse() * graph->pose(n)).isApprox(newcomerRelative, 1e-9);
+  });
+  EXPECT_TRUE(untouchedUntilWritten);
+  EXPECT_LT(errorWhenWritten, drift / 10);
+  EXPECT_TRUE(newcomerFollowed);
+  EXPECT_EQ(closing.statistics().loops, 1u);
 }

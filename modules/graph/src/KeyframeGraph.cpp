@@ -297,7 +297,16 @@ std::shared_ptr<KeyframeGraph> KeyframeGraph::snapshot() const {
   copy->adjacency_ = adjacency_;
   copy->refined_ = refined_;
   copy->culled_ = culled_;
+  copy->anchored_ = anchored_;
   return copy;
+}
+
+std::map<KeyframeId, Pose> movedRigidly(const std::map<KeyframeId, Pose>& poses, const Pose& motion,
+                                        const std::map<KeyframeId, int>* ids) {
+  std::map<KeyframeId, Pose> moved;
+  for (const auto& [id, pose] : poses)
+    if (!ids || ids->count(id)) moved[id] = orthonormalized(motion * pose);
+  return moved;
 }
 
 }  // namespace slamdunk

@@ -48,15 +48,18 @@ std::vector<PointMatch> LoopClosing::loopMatches(const LoopHypothesis& h,
 }
 
 void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise,
-                          const std::function<void()>& linked) {
+                          const CorrectionWriter& writer) {
   if (loops.empty()) return;
   const auto t0 = SteadyClock::now();
   std::vector<std::vector<PointMatch>> matches;
   for (const LoopHypothesis& h : loops) matches.push_back(loopMatches(h, noise));
+  // Solved on a copy: a frame tracked meanwhile reads the map as it was, all of it.
+  const std::shared_ptr<KeyframeGraph> solved = graph_->snapshot();
   const auto firstJoin =
       std::find_if(loops.begin(), loops.end(), [](const LoopHypothesis& h) { return h.joins; });
   const bool joined = firstJoin != loops.end();
-  if (joined) joinComponents(*firstJoin, loops, matches);  // its successors join the same two
+  // The first join's successors join the same two components.
+  if (joined) joinComponents(*solved, *firstJoin, loops, matches);
   // The poses first, from the loops' relative poses alone: the matches' edges, added after,
   // then start the bundle adjustment close to where they agree.
   std::vector<RelativePoseConstraint> constraints;
@@ -64,14 +67,21 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
   // matches, and a weak loop's relative pose would bend it again (docs/experiments.md).
   for (const LoopHypothesis& h : loops)
     if (!h.joins) constraints.push_back({h.candidate, h.query, h.T_candidate_query});
-  const PoseGraphReport poseGraph = optimizePoseGraph(*graph_, constraints, options_.poseGraph);
-  if (!poseGraph.usable) {
-    if (linked) linked();  // a join may have moved a component already
-    return;
-  }
-  for (size_t k = 0; k < loops.size(); ++k)
-    if (!matches[k].empty()) graph_->addMatches(loops[k].candidate, loops[k].query, matches[k]);
-  if (linked) linked();
+  const PoseGraphReport poseGraph = optimizePoseGraph(*solved, constraints, options_.poseGraph);
+  const std::map<KeyframeId, Pose> corrected = solved->poses();
+  const auto write = [&] {
+    // Keyframes the tracker added since the copy move with the newest one corrected.
+    if ((joined || poseGraph.usable) && !corrected.empty())
+      graph_->applyCorrection(corrected, corrected.rbegin()->first);
+    if (!poseGraph.usable) return;
+    for (size_t k = 0; k < loops.size(); ++k)
+      if (!matches[k].empty()) graph_->addMatches(loops[k].candidate, loops[k].query, matches[k]);
+  };
+  if (writer)
+    writer(write);
+  else
+    write();
+  if (!poseGraph.usable) return;
   LocalOptimizerOptions o = optimizer_;
   o.noise = noise;
   const LocalOptimizer optimizer(o);
@@ -85,13 +95,13 @@ void LoopClosing::correct(const std::vector<LoopHypothesis>& loops, const DepthN
   stats_.correctionMs.push_back(msSince(t0));
 }
 
-void LoopClosing::joinComponents(const LoopHypothesis& loop,
+void LoopClosing::joinComponents(KeyframeGraph& graph, const LoopHypothesis& loop,
                                  const std::vector<LoopHypothesis>& loops,
-                                 const std::vector<std::vector<PointMatch>>& matches) {
-  const std::map<KeyframeId, int> queryPart = graph_->component(loop.query);
-  const std::map<KeyframeId, int> candidatePart = graph_->component(loop.candidate);
+                                 const std::vector<std::vector<PointMatch>>& matches) const {
+  const std::map<KeyframeId, int> queryPart = graph.component(loop.query);
+  const std::map<KeyframeId, int> candidatePart = graph.component(loop.candidate);
   if (queryPart.empty() || candidatePart.empty() || queryPart.count(loop.candidate)) return;
-  const std::map<KeyframeId, Pose> poses = graph_->poses();
+  const std::map<KeyframeId, Pose> poses = graph.poses();
   // Maps the query's component's frame into the candidate's, as the loop measured it.
   const Pose queryToCandidate =
       poses.at(loop.candidate) * loop.T_candidate_query * poses.at(loop.query).inverse();
@@ -118,14 +128,7 @@ void LoopClosing::joinComponents(const LoopHypothesis& loop,
     }
   }
   if (const std::optional<Pose> fitted = fitRigidMotion(anchored, move)) move = *fitted;
-  std::map<KeyframeId, Pose> moved;
-  for (const auto& [id, pose] : poses)
-    if (moving.count(id)) moved[id] = orthonormalized(move * pose);
-  // The tracker adds keyframes to the query's component: those added meanwhile move with it.
-  if (queryNewer)
-    graph_->applyCorrection(moved, moving.rbegin()->first);
-  else
-    graph_->setPoses(moved);
+  graph.setPoses(movedRigidly(poses, move, &moving));
 }
 
 LoopClosingStatistics LoopClosing::statistics() const {

@@ -95,7 +95,12 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
 }
 
 TrackingResult SlamSystem::track(const RgbdFrame& frame) {
-  TrackingResult r = tracker_.process(frame);
+  TrackingResult r;
+  {
+    // A loop correction is written between two frames, never under one (closeLoops).
+    std::lock_guard betweenFrames(frameMutex_);
+    r = tracker_.process(frame);
+  }
   reviseFrameRecords(frames_, r.revisedFrames);
   frames_.push_back({r.timestamp, r.status, r.reference, r.poseInReference});
   {
@@ -135,7 +140,10 @@ void SlamSystem::closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise) {
   if (!loopClosing_) return;
   const std::vector<LoopHypothesis> loops = loopClosing_->detect(keyframe);
   if (loops.empty()) return;
-  loopClosing_->correct(loops, noise, [&] {
+  loopClosing_->correct(loops, noise, [&](const std::function<void()>& write) {
+    // Between two frames: the tracker's next frame starts in the corrected map, and knows it.
+    std::lock_guard betweenFrames(frameMutex_);
+    write();
     // Joined to the map's first component, or to another one (checked on this rare event
     // only: a walk over the whole graph). The tracker's next frame reports both at once. Asked
     // of the loop's keyframe, whose edges are in the graph: the newest keyframe may have been
@@ -157,10 +165,7 @@ void SlamSystem::finish() {
 void SlamSystem::holdTheMapInTheFirstCameraFrame() {
   const std::map<KeyframeId, Pose> poses = graph_->poses();
   if (poses.empty()) return;
-  const Pose back = poses.begin()->second.inverse();
-  std::map<KeyframeId, Pose> moved;
-  for (const auto& [id, pose] : poses) moved[id] = orthonormalized(back * pose);
-  graph_->setPoses(moved);
+  graph_->setPoses(movedRigidly(poses, poses.begin()->second.inverse()));
 }
 
 size_t forEachTrackedPose(const SessionLog<FrameRecord>& records, const KeyframeGraph& graph,

@@ -152,4 +152,9 @@ class KeyframeGraph {
   std::set<KeyframeId> anchored_;
 };
 
+/// The poses of `ids` (all of `poses` when null) moved by one rigid motion, each re-projected
+/// onto a rotation as a correction writes it (rounding must not compound from map to map).
+std::map<KeyframeId, Pose> movedRigidly(const std::map<KeyframeId, Pose>& poses, const Pose& motion,
+                                        const std::map<KeyframeId, int>* ids = nullptr);
+
 }  // namespace slamdunk

@@ -38,13 +38,16 @@ class LoopClosing {
   /// Looks keyframe `id` up (reads the graph only); the loops it accepts, if any. detect() and
   /// correct() run on one thread at a time (the back end's); statistics() from any.
   std::vector<LoopHypothesis> detect(KeyframeId id);
-  /// Links and corrects the loops `detect()` accepted; nothing else may write poses meanwhile
-  /// (keyframes may be added: they move with the newest keyframe corrected). `linked` runs
-  /// once the corrected poses and the loops' links are in the graph, before the bundle
-  /// adjustments refine them: the tracker must follow the moved map from its next frame on,
-  /// not a correction's whole time later.
+  /// Writes a solved correction into the graph: runs `write` (the corrected poses and the
+  /// loops' links, at once) where the caller wants it, for a live pipeline between two frames,
+  /// and tells the tracker there: its next frame then starts in the corrected map.
+  using CorrectionWriter = std::function<void(const std::function<void()>& write)>;
+  /// Links and corrects the loops `detect()` accepted. The join and the pose graph are solved
+  /// on a copy of the graph, then written by `writer` (directly when empty); the bundle
+  /// adjustments around the loop's ends follow in the graph. Nothing else may write poses
+  /// meanwhile; keyframes may be added: they move with the newest keyframe corrected.
   void correct(const std::vector<LoopHypothesis>& loops, const DepthNoiseModel& noise,
-               const std::function<void()>& linked = {});
+               const CorrectionWriter& writer = {});
   LoopClosingStatistics statistics() const;
   const LoopClosingOptions& options() const { return options_; }
 
@@ -53,8 +56,9 @@ class LoopClosing {
   /// rigidly into the older one's frame (a loaded map keeps its own), by the motion that best
   /// fits the matches of every loop in `loops` between the two at once (`matches`, one list
   /// per loop); the pose graph then leaves those loops out.
-  void joinComponents(const LoopHypothesis& loop, const std::vector<LoopHypothesis>& loops,
-                      const std::vector<std::vector<PointMatch>>& matches);
+  void joinComponents(KeyframeGraph& graph, const LoopHypothesis& loop,
+                      const std::vector<LoopHypothesis>& loops,
+                      const std::vector<std::vector<PointMatch>>& matches) const;
   /// The loop's inliers as graph matches, weighed as the tracker weighs its own.
   std::vector<PointMatch> loopMatches(const LoopHypothesis& h, const DepthNoiseModel& noise) const;
 

@@ -159,6 +159,9 @@ class SlamSystem {
   std::atomic<bool> apartAfterCorrection_{false};
 
   mutable std::mutex statsMutex_;
+  /// Held while the tracker processes a frame, and by the back end while it writes a loop
+  /// correction: a frame is registered in one map, before the correction or after it.
+  std::mutex frameMutex_;
   std::unique_ptr<LoopClosing> loopClosing_;  ///< null when [loop_closing] enabled = false
   /// After the tracker and loop closing: it is stopped first, and tells the tracker of every
   /// optimization and correction.
