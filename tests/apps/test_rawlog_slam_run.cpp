@@ -2,7 +2,9 @@
 // the callbacks on every frame, the frame log's columns, the figures of the summary.
 
 #include <slamdunk/apps/RawlogSlamRun.h>
+#include <slamdunk/core/RgbdFrame.h>
 #include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/features/FramePreparation.h>
 
 #include "TestData.h"
 
@@ -113,4 +115,68 @@ TEST(RawlogSlamRun, RefusesAnOutputOverAnInput) {
         << e.what();
   }
   EXPECT_EQ(test::readFile(gt), test::readFile(test::groundTruthOf(rawlog)));
+}
+
+// Frames prepared ahead (FramePrefetcher, as RawlogSlamRun runs) carry the features the
+// tracker would extract itself, and are tracked to the same trajectory, bit for bit, as their
+// observations given one by one (a real recording); an unusable observation among them is
+// reported the same way.
+TEST(RawlogSlamRun, FramesPreparedAheadAreTrackedAsTheirObservations) {
+  REQUIRE_RAWLOG(rawlog, "fr1_xyz_400f");
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> observations;
+  {
+    PrefetchingRawlogReader reader(rawlog);
+    while (observations.size() < 100) observations.push_back(reader.next());
+  }
+  auto noDepth = selfContainedCopy(*observations[20]);
+  noDepth->hasRangeImage = false;
+  observations[20] = noDepth;
+
+  const SlamOptions options;
+  SlamSystem oneByOne(options);
+  std::vector<TrackingResult> expected;
+  for (const auto& obs : observations) expected.push_back(oneByOne.process(*obs));
+  oneByOne.finish();
+
+  const FeatureExtractor extractor(options.features);
+  size_t next = 0;
+  FramePrefetcher frames(
+      [&] { return next < observations.size() ? observations[next++] : nullptr; },
+      options.features);
+  SlamSystem prepared(options);
+  for (size_t i = 0;; ++i) {
+    std::optional<PreparedFrame> frame = frames.next();
+    if (!frame) {
+      EXPECT_EQ(i, observations.size());
+      break;
+    }
+    ASSERT_LT(i, observations.size());
+    ASSERT_EQ(frame->observation, observations[i]) << "frame " << i << " out of order";
+    if (i == 20) {
+      EXPECT_FALSE(frame->frame.has_value());
+      EXPECT_NE(frame->error.find("has no depth"), std::string::npos) << frame->error;
+    } else {
+      const FeatureSet own = extractor.extract(RgbdFrame::fromObservation(*observations[i]));
+      ASSERT_EQ(frame->features.size(), own.size()) << "frame " << i;
+      EXPECT_EQ(cv::norm(frame->features.descriptors, own.descriptors, cv::NORM_INF), 0.0);
+      EXPECT_EQ(frame->features.points, own.points) << "frame " << i;
+    }
+    const TrackingResult r = prepared.process(std::move(*frame));
+    EXPECT_EQ(r.status, expected[i].status) << "frame " << i;
+    EXPECT_EQ(r.lostReason, expected[i].lostReason) << "frame " << i;
+    EXPECT_EQ(r.newKeyframe, expected[i].newKeyframe) << "frame " << i;
+  }
+  prepared.finish();
+
+  EXPECT_EQ(expected[20].lostReason.rfind("unusable observation: ", 0), 0u)
+      << expected[20].lostReason;
+  const Trajectory a = oneByOne.trajectory(), b = prepared.trajectory();
+  ASSERT_EQ(a.size(), 99u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].timestamp, b[i].timestamp);
+    EXPECT_TRUE(a[i].pose.matrix() == b[i].pose.matrix()) << "pose " << i;
+  }
+  EXPECT_EQ(prepared.statistics().keyframes, oneByOne.statistics().keyframes);
+  EXPECT_GE(prepared.statistics().keyframes, 4u);
 }

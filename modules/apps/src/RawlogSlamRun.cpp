@@ -4,6 +4,7 @@
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
+#include <slamdunk/features/FramePreparation.h>
 #include <slamdunk/grid_map/GridMapFiles.h>
 #include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 #include <slamdunk/slam/SimpleMapExport.h>
@@ -123,27 +124,37 @@ RawlogRunResult RawlogSlamRun::run() {
 
 std::string RawlogSlamRun::processFrames(RunFigures& fig) {
   const auto start = SteadyClock::now();
+  // Frames are built and their features extracted a frame or two ahead, on a thread of their
+  // own: they depend on the observation alone, and the tracking thread goes on registering.
   size_t index = 0;
+  FramePrefetcher frames(
+      [&]() -> mrpt::obs::CObservation3DRangeScan::Ptr {
+        for (;;) {
+          auto obs = reader_->next();
+          if (!obs || index++ >= options_.firstFrame) return obs;
+        }
+      },
+      options_.slam.features);
   for (;;) {
     const auto t = SteadyClock::now();
-    mrpt::obs::CObservation3DRangeScan::Ptr obs;
+    std::optional<PreparedFrame> prepared;
     try {
-      obs = reader_->next();
+      prepared = frames.next();
     } catch (const std::exception& e) {
       // A recording cut short keeps the frames before the damage: they are processed and
       // written, and the caller still hears of the problem.
       return e.what();
     }
-    if (!obs) return {};
-    if (index++ < options_.firstFrame) continue;
+    if (!prepared) return {};
     const double decodeMs = msSince(t);
     if (pauseCallback_) {
       const auto paused = SteadyClock::now();
       pauseCallback_(fig.decodeMs.size());
       pausedSeconds_ += msSince(paused) / 1000.0;
     }
+    const mrpt::obs::CObservation3DRangeScan::Ptr obs = prepared->observation;
     if (!sensorPose_) sensorPose_ = obs->sensorPose;  // on a robot: the grid's floor
-    const TrackingResult r = slam_->process(*obs);
+    const TrackingResult r = slam_->process(std::move(*prepared));
     if (frameCallback_) frameCallback_(*obs, r);
     obs->unload();
     fig.decodeMs.push_back(decodeMs);

@@ -55,23 +55,39 @@ std::optional<TrackingResult> SlamSystem::outOfOrder(double timestamp) {
 }
 
 TrackingResult SlamSystem::process(const mrpt::obs::CObservation3DRangeScan& obs) {
-  if (auto skipped = outOfOrder(mrpt::Clock::toDouble(obs.timestamp))) return *skipped;
+  const double timestamp = mrpt::Clock::toDouble(obs.timestamp);
+  if (auto skipped = outOfOrder(timestamp)) return *skipped;
   try {
     return track(RgbdFrame::fromObservation(obs));
   } catch (const std::exception& e) {
-    TrackingResult r;
-    r.timestamp = mrpt::Clock::toDouble(obs.timestamp);
-    r.status = TrackingStatus::Lost;
-    r.lostReason = std::string("unusable observation: ") + e.what();
-    frames_.push_back({r.timestamp, r.status, 0, Pose::Identity()});
-    std::lock_guard lock(statsMutex_);
-    ++stats_.frames;
-    ++stats_.lost;
-    if (std::find(stats_.lostReasons.begin(), stats_.lostReasons.end(), r.lostReason) ==
-        stats_.lostReasons.end())
-      stats_.lostReasons.push_back(r.lostReason);
-    return r;
+    return unusable(timestamp, e.what());
   }
+}
+
+TrackingResult SlamSystem::process(PreparedFrame prepared) {
+  const double timestamp = prepared.timestamp();
+  if (auto skipped = outOfOrder(timestamp)) return *skipped;
+  if (!prepared.frame) return unusable(timestamp, prepared.error);
+  try {
+    return track(*prepared.frame, &prepared);
+  } catch (const std::exception& e) {
+    return unusable(timestamp, e.what());
+  }
+}
+
+TrackingResult SlamSystem::unusable(double timestamp, const std::string& why) {
+  TrackingResult r;
+  r.timestamp = timestamp;
+  r.status = TrackingStatus::Lost;
+  r.lostReason = "unusable observation: " + why;
+  frames_.push_back({r.timestamp, r.status, 0, Pose::Identity()});
+  std::lock_guard lock(statsMutex_);
+  ++stats_.frames;
+  ++stats_.lost;
+  if (std::find(stats_.lostReasons.begin(), stats_.lostReasons.end(), r.lostReason) ==
+      stats_.lostReasons.end())
+    stats_.lostReasons.push_back(r.lostReason);
+  return r;
 }
 
 size_t reviseFrameRecords(SessionLog<FrameRecord>& records,
@@ -94,12 +110,13 @@ TrackingResult SlamSystem::process(const RgbdFrame& frame) {
   return track(frame);
 }
 
-TrackingResult SlamSystem::track(const RgbdFrame& frame) {
+TrackingResult SlamSystem::track(const RgbdFrame& frame, PreparedFrame* prepared) {
   TrackingResult r;
   {
     // A loop correction is written between two frames, never under one (closeLoops).
     std::lock_guard betweenFrames(frameMutex_);
-    r = tracker_.process(frame);
+    r = prepared ? tracker_.process(frame, std::move(prepared->features), prepared->extractionMs)
+                 : tracker_.process(frame);
   }
   reviseFrameRecords(frames_, r.revisedFrames);
   frames_.push_back({r.timestamp, r.status, r.reference, r.poseInReference});

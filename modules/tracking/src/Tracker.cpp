@@ -56,7 +56,15 @@ Tracker::Tracker(const TrackerOptions& options, const FeatureOptions& featureOpt
 Tracker::~Tracker() = default;
 
 TrackingResult Tracker::process(const RgbdFrame& frame) {
+  const auto t = SteadyClock::now();
+  FeatureSet features = extractor_.extract(frame);
+  return process(frame, std::move(features), msSince(t));
+}
+
+TrackingResult Tracker::process(const RgbdFrame& frame, FeatureSet features, double extractionMs) {
   const auto start = SteadyClock::now();
+  // The frame's whole work counts, wherever its features were extracted.
+  auto elapsedMs = [&] { return extractionMs + msSince(start); };
   TrackingResult r;
   r.timestamp = frame.timestamp();
   if (corrected_.exchange(false)) {
@@ -73,9 +81,8 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   r.timings.pool = msSince(t);
 
   t = SteadyClock::now();
-  FeatureSet features = extractor_.extract(frame);
   timing_.beginFrame(frame, features, lastPose_, lost_);
-  r.timings.features = msSince(t);
+  r.timings.features = extractionMs + msSince(t);
   r.features = features.size();
 
   auto lostBecause = [&](std::string why) {
@@ -84,7 +91,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     ++framesLost_;
     r.status = TrackingStatus::Lost;
     r.lostReason = std::move(why);
-    r.timings.total = msSince(start);
+    r.timings.total = elapsedMs();
     return r;
   };
   const bool enoughFeatures = static_cast<int>(features.size()) >= options_.minFeatures;
@@ -98,7 +105,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   if (graph_->keyframeCount() == 0) {
     if (options_.localizationOnly) return lostBecause("localization only, and the map is empty");
     r = initialize(frame, std::move(features), r);
-    r.timings.total = msSince(start);
+    r.timings.total = elapsedMs();
     return r;
   }
 
@@ -116,7 +123,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
     if (!alone) return lostBecause(r.lostReason);
     r = initialize(frame, std::move(features), r, newComponentOrigin());
     r.newComponent = true;
-    r.timings.total = msSince(start);
+    r.timings.total = elapsedMs();
     return r;
   }
   r.status = TrackingStatus::Tracked;
@@ -139,7 +146,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame) {
   lost_ = false;
   trackedOnce_ = true;
   framesLost_ = 0;
-  r.timings.total = msSince(start);
+  r.timings.total = elapsedMs();
   return r;
 }
 

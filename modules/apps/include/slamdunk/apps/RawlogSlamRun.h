@@ -14,8 +14,9 @@
 //   const RawlogRunResult result = run.run();     // processes, writes every output
 //   printRunSummary(result.figures, false);
 //
-// The rawlog is decoded a few frames ahead on a thread of its own; frames are tracked on the
-// caller's thread, in order, so a run's outputs do not depend on timing.
+// The rawlog is decoded a few frames ahead on a thread of its own, and each frame's features
+// are extracted ahead on another (FramePrefetcher); frames are tracked on the caller's thread,
+// in order, so a run's outputs do not depend on timing.
 
 #include <slamdunk/apps/RunSummary.h>
 #include <slamdunk/core/AtomicOutput.h>

@@ -3,23 +3,17 @@
 // (external PNGs, depth matrices) overlaps the processing of the frame before: offline, the
 // whole-app rate is the tracking rate, not tracking plus decoding.
 
+#include <slamdunk/core/Prefetcher.h>
 #include <slamdunk/core/RawlogReader.h>
 
-#include <condition_variable>
-#include <deque>
-#include <exception>
 #include <mutex>
-#include <thread>
 
 namespace slamdunk {
 
 class PrefetchingRawlogReader {
  public:
   /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead.
-  /// The reading thread keeps the process's CPU priority: the consumer waits for it whenever
-  /// it is behind, so a lower priority would hold the consumer back on a busy machine.
   explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4);
-  ~PrefetchingRawlogReader();  ///< stops the reading thread
   PrefetchingRawlogReader(const PrefetchingRawlogReader&) = delete;
   PrefetchingRawlogReader& operator=(const PrefetchingRawlogReader&) = delete;
 
@@ -34,20 +28,16 @@ class PrefetchingRawlogReader {
 
  private:
   struct Item {
-    mrpt::obs::CObservation3DRangeScan::Ptr scan;  ///< nullptr: the end, or `error`
-    std::exception_ptr error;
-    size_t entriesRead = 0, skipped = 0;
+    mrpt::obs::CObservation3DRangeScan::Ptr scan;
+    size_t entriesRead = 0, skipped = 0;  ///< the reader's counts once it had read `scan`
   };
-  void readLoop();
+  std::optional<Item> read();
+  void handedOut(size_t entriesRead, size_t skipped);
 
   RawlogReader reader_;
-  const size_t depth_;
-  mutable std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<Item> ready_;
-  bool stopping_ = false;
+  mutable std::mutex countsMutex_;
   size_t entriesRead_ = 0, skipped_ = 0;  ///< of the last item handed out
-  std::thread thread_;
+  Prefetcher<Item> prefetcher_;           ///< last: stopped before the reader it reads
 };
 
 }  // namespace slamdunk

@@ -5,6 +5,7 @@
 
 #include <slamdunk/core/SessionLog.h>
 #include <slamdunk/core/TumTrajectory.h>
+#include <slamdunk/features/FramePreparation.h>
 #include <slamdunk/loop_closing/LoopClosing.h>
 #include <slamdunk/optimization/LocalOptimization.h>
 #include <slamdunk/slam/SlamOptions.h>
@@ -113,6 +114,9 @@ class SlamSystem {
   /// neither tracked nor counted lost, so the trajectory's stamps always increase.
   TrackingResult process(const mrpt::obs::CObservation3DRangeScan& obs);
   TrackingResult process(const RgbdFrame& frame);
+  /// The same for a frame prepared ahead (FramePrefetcher with options().features): its
+  /// features are not extracted again, and the result is the one process(obs) gives.
+  TrackingResult process(PreparedFrame prepared);
 
   /// Waits for pending optimizations, then runs the final global pass if enabled, and holds
   /// the map in the first camera's frame (not when localizing only: the map stays as loaded).
@@ -138,7 +142,10 @@ class SlamSystem {
   void holdTheMapInTheFirstCameraFrame();
   /// The skip result for a frame whose timestamp does not increase, or nullopt.
   std::optional<TrackingResult> outOfOrder(double timestamp);
-  TrackingResult track(const RgbdFrame& frame);
+  /// Tracks the frame, with its features when they were extracted already.
+  TrackingResult track(const RgbdFrame& frame, PreparedFrame* prepared = nullptr);
+  /// The result of an observation no frame can be made of (counted as lost).
+  TrackingResult unusable(double timestamp, const std::string& why);
   /// After the local optimization around a new keyframe, on its thread: place recognition,
   /// and the correction of the loops it accepts.
   void closeLoops(KeyframeId keyframe, const DepthNoiseModel& noise);

@@ -96,7 +96,11 @@ class Tracker {
           std::shared_ptr<KeyframeGraph> graph);
   ~Tracker();
 
+  /// Extracts the frame's features, then tracks it.
   TrackingResult process(const RgbdFrame& frame);
+  /// Tracks a frame whose features were extracted already, in `extractionMs`, with this
+  /// tracker's FeatureOptions (FramePrefetcher): the same result as process(frame).
+  TrackingResult process(const RgbdFrame& frame, FeatureSet features, double extractionMs);
   /// Keyframe poses changed (local optimization): the next frame asks Local Mapping for the
   /// window around the newest keyframe's pose. Callable from any thread.
   void notifyMapChanged() { mapChanged_ = true; }
