@@ -42,6 +42,8 @@ SLAMDUNK_ENUM_NAMES(TrackingStatus, {{TrackingStatus::Initialized, "initialized"
 
 /// Milliseconds spent in each stage for one frame.
 struct StageTimings {
+  /// `features`: extracting them, wherever it ran (ahead, on a thread of its own: FramePrefetcher);
+  /// `total`: the tracking thread's time for the frame, extraction included when it ran there.
   double features = 0, pool = 0, matching = 0, ransac = 0, total = 0;
   double poolWait = 0;  ///< of `pool`: waiting for a pool's hand-over (offline, deterministic)
 };
