@@ -14,7 +14,7 @@ struct RunFigures {
   SlamStatistics stats;
   size_t edges = 0;
   double wallSeconds = 0;        ///< whole run: reading, decoding, tracking, optimizing
-  std::vector<double> decodeMs;  ///< per frame: rawlog read + image decode
+  std::vector<double> decodeMs;  ///< per frame: waiting for it (read, prepared ahead)
   long peakRssKiB = 0;
   GraphMemory mapMemory;        ///< the keyframe graph's data at the end, counted directly
   long firstTrackedFrame = -1;  ///< index of the first frame not lost (relocalization delay)
