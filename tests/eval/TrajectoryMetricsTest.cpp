@@ -12,8 +12,6 @@ using namespace slamdunk::eval;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 Pose makePose(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
   Pose p = Pose::Identity();
   p.linear() = R;

@@ -11,8 +11,6 @@
 
 namespace slamdunk::test {
 
-constexpr double kDeg = M_PI / 180.0;
-
 /// `count` points uniform in the box from `lo` to `hi`.
 inline std::vector<Eigen::Vector3d> pointsInBox(int count, const Eigen::Vector3d& lo,
                                                 const Eigen::Vector3d& hi, std::mt19937& rng) {

@@ -13,7 +13,6 @@
 #include <random>
 
 using namespace slamdunk;
-using test::kDeg;
 
 namespace {
 

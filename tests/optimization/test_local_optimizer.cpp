@@ -18,7 +18,6 @@
 #include <thread>
 
 using namespace slamdunk;
-using test::kDeg;
 
 namespace {
 

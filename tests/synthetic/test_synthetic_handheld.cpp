@@ -17,8 +17,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
-
 /// Frame of the "rotations" trajectory at the peak of its first sweep (yaw right, 87 deg/s).
 constexpr size_t kFastYawFrame = 28;
 

@@ -31,8 +31,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
-
 /// Nothing nearer than this to the camera, in any direction: a surface at distance d is seen
 /// at z-depth >= d / 1.26 (the image corner's ray is 1.26 times longer than its z), so 0.6 m
 /// keeps everything in view beyond 0.47 m, clear of the renderer's 0.4 m near clip (nothing

@@ -9,8 +9,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
-
 /// Angle between the camera's "down" (optical +y) and gravity (world +y): roll and pitch.
 double tiltFromGravityDeg(const Pose& T_w_opt) {
   const Eigen::Vector3d down = T_w_opt.linear().col(1);

@@ -15,13 +15,6 @@ using namespace slamdunk;
 
 namespace {
 
-Pose poseOf(const Eigen::Vector3d& axis, double angle, const Eigen::Vector3d& t) {
-  Pose p = Pose::Identity();
-  p.linear() = Eigen::AngleAxisd(angle, axis.normalized()).matrix();
-  p.translation() = t;
-  return p;
-}
-
 /// Reference keyframe at the origin, current frame at `truth`, both seeing `planes`.
 DepthAlignmentTerm termFor(const Pose& truth, const std::vector<test::Plane>& planes) {
   const CameraIntrinsics K = test::smallCamera();
@@ -66,7 +59,7 @@ TEST(FitPlaneNormals, EveryPlanePixelGetsItsPlaneNormal) {
 
 TEST(DepthOnlyRegistration, RecoversAMotionInACorner) {
   // 6 cm and 4 degrees from the prediction (the reference pose): a fast hand-held motion.
-  const Pose truth = poseOf({0.2, 1, 0.1}, 4 * M_PI / 180, {0.04, -0.02, 0.04});
+  const Pose truth = poseFromAxisAngle({0.2, 1, 0.1}, 4 * M_PI / 180, {0.04, -0.02, 0.04});
   const DepthOnlyResult r =
       registerByDepthOnly(Pose::Identity(), termFor(truth, test::cornerPlanes()));
   ASSERT_TRUE(r.success) << r.failure;
@@ -80,7 +73,7 @@ TEST(DepthOnlyRegistration, RecoversAMotionInACorner) {
 TEST(DepthOnlyRegistration, RefusesAWallOnAFloor) {
   // Floor and the wall ahead only: nothing holds the camera along the wall (x).
   const std::vector<test::Plane> planes = {test::cornerPlanes()[0], test::cornerPlanes()[2]};
-  const Pose truth = poseOf({0, 1, 0}, 0, {0.05, 0, 0});
+  const Pose truth = poseFromAxisAngle({0, 1, 0}, 0, {0.05, 0, 0});
   const DepthOnlyResult r = registerByDepthOnly(Pose::Identity(), termFor(truth, planes));
   EXPECT_FALSE(r.success);
   EXPECT_NE(r.failure.find("weakest direction"), std::string::npos) << r.failure;
@@ -89,7 +82,7 @@ TEST(DepthOnlyRegistration, RefusesAWallOnAFloor) {
 
 TEST(DepthOnlyRegistration, RefusesViewsThatDoNotOverlap) {
   // Turned 90 degrees away: the frame sees the other wall, the reference does not.
-  const Pose truth = poseOf({0, 1, 0}, M_PI / 2, {0, 0, 0});
+  const Pose truth = poseFromAxisAngle({0, 1, 0}, M_PI / 2, {0, 0, 0});
   const DepthOnlyResult r =
       registerByDepthOnly(Pose::Identity(), termFor(truth, test::cornerPlanes()));
   EXPECT_FALSE(r.success);

@@ -15,8 +15,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
-
 /// A QVGA camera with a Kinect-like barrel distortion (TUM fr1's k1, k2).
 CameraIntrinsics distortedCamera() {
   CameraIntrinsics K = test::centredCamera(320, 240, 260);
@@ -40,18 +38,11 @@ RgbdFrame frameAt(const Pose& pose) {
   return RgbdFrame(0, cv::Mat(K.height, K.width, CV_8U, cv::Scalar(128)), depth, K);
 }
 
-Pose poseOf(const Eigen::Vector3d& axis, double angle, const Eigen::Vector3d& t) {
-  Pose p = Pose::Identity();
-  p.linear() = Eigen::AngleAxisd(angle, axis.normalized()).matrix();
-  p.translation() = t;
-  return p;
-}
-
 }  // namespace
 
 TEST(DepthPairCheck, ConfirmsTheTrueRelativePoseThroughADistortedLens) {
-  const Pose source = poseOf({0.3, 1, 0.1}, 3 * kDeg, {0.05, -0.02, 0.03});
-  const Pose target = poseOf({1, 0.2, 0}, -2 * kDeg, {-0.03, 0.01, 0.06});
+  const Pose source = poseFromAxisAngle({0.3, 1, 0.1}, 3 * kDeg, {0.05, -0.02, 0.03});
+  const Pose target = poseFromAxisAngle({1, 0.2, 0}, -2 * kDeg, {-0.03, 0.01, 0.06});
   const Pose truth = target.inverse() * source;
   const DepthPairCheck c = checkDepthPair(frameAt(source), frameAt(target), truth);
   ASSERT_TRUE(c.aligned) << c.failure;
@@ -61,11 +52,11 @@ TEST(DepthPairCheck, ConfirmsTheTrueRelativePoseThroughADistortedLens) {
 }
 
 TEST(DepthPairCheck, BringsBackARelativePoseTurnedTooFar) {
-  const Pose source = poseOf({0.3, 1, 0.1}, 3 * kDeg, {0.05, -0.02, 0.03});
+  const Pose source = poseFromAxisAngle({0.3, 1, 0.1}, 3 * kDeg, {0.05, -0.02, 0.03});
   const Pose target = Pose::Identity();
   const Pose truth = target.inverse() * source;
   // The trajectory turns 1.5 degrees further about the camera's y axis than the camera did.
-  const Pose given = poseOf({0, 1, 0}, 1.5 * kDeg, Eigen::Vector3d::Zero()) * truth;
+  const Pose given = poseFromAxisAngle({0, 1, 0}, 1.5 * kDeg, Eigen::Vector3d::Zero()) * truth;
   const DepthPairCheck c = checkDepthPair(frameAt(source), frameAt(target), given);
   ASSERT_TRUE(c.aligned) << c.failure;
   EXPECT_GT(c.medianResidualGiven, 0.005);

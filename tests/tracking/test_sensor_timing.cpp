@@ -13,7 +13,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 constexpr double kRate = 90 * kDeg;  // rad/s, about the vertical (optical y) axis
 constexpr double kWall = 2.0;        // world z of the wall
 

@@ -8,8 +8,6 @@ using namespace slamdunk;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
-
 /// A wall of points 2 m in front of the camera, spread over the middle of its view
 /// (within +-20 degrees), in that camera's optical frame.
 std::vector<Eigen::Vector3d> wallInView() {

@@ -1,4 +1,5 @@
 #include <slamdunk/core/ErrorText.h>
+#include <slamdunk/core/TextParsing.h>
 
 #include <cstdio>
 #include <sstream>
@@ -21,14 +22,6 @@ std::string printableText(const std::string& s, size_t maxLength) {
   return out;
 }
 
-namespace {
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return {};
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-}  // namespace
-
 std::string summarizeError(const std::string& what) {
   static const std::string kBanner = "==== MRPT exception ====";
   static const std::string kParsing = "Exception while parsing typed object '";
@@ -37,7 +30,7 @@ std::string summarizeError(const std::string& what) {
   std::vector<std::string> classes;
   bool inTrace = false;
   while (std::getline(in, line)) {
-    line = trim(line);
+    line = trimmed(line);
     if (line.empty()) continue;
     if (line == kBanner) {
       inTrace = false;
@@ -48,7 +41,7 @@ std::string summarizeError(const std::string& what) {
       continue;
     }
     if (inTrace || line.rfind("Original exception:", 0) == 0) continue;
-    if (line.rfind("Message:", 0) == 0) line = trim(line.substr(8));
+    if (line.rfind("Message:", 0) == 0) line = trimmed(line.substr(8));
     if (line.rfind(kParsing, 0) == 0) {
       const size_t end = line.find('\'', kParsing.size());
       classes.push_back(line.substr(kParsing.size(), end - kParsing.size()));

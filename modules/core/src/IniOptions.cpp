@@ -11,12 +11,6 @@
 namespace slamdunk {
 
 namespace {
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r\n");
-  if (a == std::string::npos) return {};
-  const size_t b = s.find_last_not_of(" \t\r\n");
-  return s.substr(a, b - a + 1);
-}
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
@@ -46,7 +40,7 @@ std::string IniSectionReader::rawValue(const std::string& key, bool& found) {
   std::string v = cfg_.read_string(section_, key, "", false);
   const size_t c = v.find_first_of("#;");
   if (c != std::string::npos) v = v.substr(0, c);
-  return trim(v);
+  return trimmed(v);
 }
 
 double IniSectionReader::readDouble(const std::string& key, double defaultValue) {

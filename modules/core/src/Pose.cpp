@@ -21,6 +21,13 @@ Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, d
   return p;
 }
 
+Pose poseFromAxisAngle(const Eigen::Vector3d& axis, double angle, const Eigen::Vector3d& t) {
+  Pose p = Pose::Identity();
+  p.linear() = Eigen::AngleAxisd(angle, axis.normalized()).matrix();
+  p.translation() = t;
+  return p;
+}
+
 mrpt::poses::CPose3D toCPose3D(const Pose& p) {
   mrpt::math::CMatrixDouble33 R;
   for (int r = 0; r < 3; ++r)

@@ -1,3 +1,4 @@
+#include <slamdunk/core/Pose.h>
 #include <slamdunk/synthetic/FloorPlan.h>
 
 #include <algorithm>
@@ -8,8 +9,6 @@
 namespace slamdunk {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 std::vector<RoomBox> roomBoxes(const RoomLayout& r) {
   // Fixed layout: against the walls, at least 0.9 m away from the camera paths of

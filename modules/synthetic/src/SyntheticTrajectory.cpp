@@ -1,5 +1,6 @@
 #include <slamdunk/synthetic/SyntheticTrajectory.h>
 
+#include <slamdunk/core/Pose.h>
 #include <slamdunk/synthetic/FloorPlan.h>
 #include <slamdunk/synthetic/RoundedLoop.h>
 
@@ -11,8 +12,6 @@
 namespace slamdunk {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// Optical-frame pose of a nearly level camera in the gravity-aligned world (y down):
 /// yaw about the vertical axis (0 = looking along +z, 90 deg = along +x), then pitch (positive

@@ -13,10 +13,16 @@ namespace slamdunk {
 
 using Pose = Eigen::Isometry3d;
 
+/// One degree in radians.
+inline constexpr double kDeg = 3.14159265358979323846 / 180;
+
 /// Pose from translation and a quaternion (x, y, z, w order as in TUM files); normalises the
 /// quaternion and throws std::invalid_argument on NaN/inf values or a zero-norm quaternion.
 Pose poseFromTranslationQuaternion(double tx, double ty, double tz, double qx, double qy, double qz,
                                    double qw);
+
+/// The pose turned by `angle` radians about `axis` (of any length) and moved by `t`.
+Pose poseFromAxisAngle(const Eigen::Vector3d& axis, double angle, const Eigen::Vector3d& t);
 
 mrpt::poses::CPose3D toCPose3D(const Pose& p);
 Pose fromCPose3D(const mrpt::poses::CPose3D& p);

@@ -18,6 +18,13 @@ inline std::optional<double> parseNumber(const std::string& text) {
   return x;
 }
 
+/// `text` without the blanks (spaces, tabs, line ends) at either end.
+inline std::string trimmed(const std::string& text) {
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return {};
+  return text.substr(first, text.find_last_not_of(" \t\r\n") - first + 1);
+}
+
 /// Calls fn(line, lineNumber) for each line of `in` that holds data, counting lines from 1:
 /// blank lines and comments (lines whose first non-blank character is '#') are passed over.
 template <class Fn>
