@@ -9,8 +9,6 @@
 #   scripts/sanitize.sh --all             every test, ASan + UBSan at -O2 in ./build-asan-all
 #                                         (about an hour and a half on 2 cores; test-long.sh)
 #   scripts/sanitize.sh -R LiveViewer     extra arguments go to ctest
-#   scripts/sanitize.sh --build-only     CI's subset built, not run (scripts/test.sh builds it
-#                                         beside the Release suite)
 # Leaks inside third-party libraries are suppressed in scripts/sanitizers/lsan.supp (each entry
 # says why); a report in this project's code is a bug to fix, not to suppress.
 # CI's subset compiles at -O1 with ASan alone: 1.2 times the Release build's CPU time, where
@@ -23,12 +21,8 @@ root=$(pwd)
 bash scripts/install-deps.sh
 
 all=0
-build_only=0
 if [ "${1:-}" = --all ]; then
   all=1
-  shift
-elif [ "${1:-}" = --build-only ]; then
-  build_only=1
   shift
 fi
 build=build-asan
@@ -98,15 +92,6 @@ else
 fi
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSLAMDUNK_ASAN=ON \
   "${config[@]}" >"$logs/../configure.log" || { cat "$logs/../configure.log"; exit 1; }
-start=$SECONDS
-targets=(--target "${ci_targets[@]}")
-[ $all = 1 ] && targets=()
-cmake --build "$build" -j"$(nproc)" "${targets[@]}" || { reports || true; exit 1; }
-built=$SECONDS
-if [ $build_only = 1 ]; then
-  echo "sanitize: built in $((built - start)) s (--build-only: no tests run)"
-  exit 0
-fi
 # The rawlogs the tests share (tests/apps/prepare-test-data.sh): the Release tree's
 # (scripts/test.sh runs the Release suite first), hard-linked, not copied. Rendering them again
 # under the sanitizers took 26 minutes; the tools that make them run under the sanitizers in
@@ -116,6 +101,11 @@ if [ -d build/test-data ] && [ ! -e "$build/test-data" ]; then
   cp -al build/test-data "$build/test-data" ||
     { rm -rf "$build/test-data"; cp -a build/test-data "$build/test-data"; }
 fi
+start=$SECONDS
+targets=(--target "${ci_targets[@]}")
+[ $all = 1 ] && targets=()
+cmake --build "$build" -j"$(nproc)" "${targets[@]}" || { reports || true; exit 1; }
+built=$SECONDS
 
 subset=(-E "$(IFS='|'; echo "${ci_long_runs[*]}")")
 [ $all = 1 ] && subset=()

@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # The test suite CI runs (.ci/run, with SLAMDUNK_REQUIRE_DATA=1): installs the dependencies,
 # builds ./build (Release), runs the suite with ctest, then a subset under AddressSanitizer
-# (scripts/sanitize.sh, ./build-asan, built beside the rest at low priority; its build's log is
-# build-asan/build.log). The unit tests of the readers, the tracker, the optimizer,
+# (scripts/sanitize.sh, ./build-asan). The unit tests of the readers, the tracker, the optimizer,
 # the keyframe graph and the options, and the fuzzers' fixed inputs, run there only
 # (scripts/lib/test-subsets.sh). Within 25 minutes on 2 cores; the long runs it leaves out are
 # scripts/test-long.sh's.
@@ -16,22 +15,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/test-subsets.sh
 start=$SECONDS
-bash scripts/install-deps.sh
-# The sanitizer tree builds beside the Release build and suite, at the lowest priority: it takes
-# the CPU they leave idle (links, the real-time tests that run alone and pace themselves, each
-# phase's last long test), and what is left of it after the suite.
-asan_build=""
-asan_log=$PWD/build-asan/build.log
-if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" != 1 ]; then
-  mkdir -p build-asan
-  # A process group of its own (setsid), so that leaving early stops its compilers too. A new
-  # session is also a scheduling group of its own where the kernel groups by session (autogroup):
-  # it gets that group's niceness too, or it would take half the CPU.
-  setsid bash -c 'echo 19 >/proc/self/autogroup 2>/dev/null || true
-    exec nice -n 19 bash scripts/sanitize.sh --build-only' >"$asan_log" 2>&1 &
-  asan_build=$!
-  trap '[ -n "$asan_build" ] && kill -- -"$asan_build" 2>/dev/null; true' EXIT
-fi
 # The folders whose every test runs under the sanitizers below are built and run there only.
 if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ]; then
   SLAMDUNK_SKIP_TEST_DIRS="" bash scripts/build.sh
@@ -71,16 +54,6 @@ echo "test.sh: Release build $((built - start)) s, suite $((tested - built)) s"
 if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ]; then
   echo "test.sh: sanitizer suite skipped (SLAMDUNK_SKIP_SANITIZERS=1)"
 else
-  waited=$SECONDS
-  if ! wait "$asan_build"; then
-    asan_build=""
-    cat "$asan_log" >&2
-    echo "test.sh: the sanitizer tree's build failed (above)" >&2
-    exit 1
-  fi
-  asan_build=""
-  echo "test.sh: the sanitizer tree built beside the suite, $((SECONDS - waited)) s waited for" \
-    "after it ($(tail -n 1 "$asan_log"))"
   bash scripts/sanitize.sh "$@"
 fi
 echo "test.sh: $((SECONDS - start)) s in all"
