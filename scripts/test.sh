@@ -15,6 +15,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/test-subsets.sh
 start=$SECONDS
+# Software OpenGL (Mesa's llvmpipe) renders on one thread per process: ctest already runs as
+# many tests as there are cores, and its own threads only added switching. Same images.
+export LP_NUM_THREADS=${LP_NUM_THREADS:-1}
 # The folders whose every test runs under the sanitizers below are built and run there only.
 if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ]; then
   SLAMDUNK_SKIP_TEST_DIRS="" bash scripts/build.sh

@@ -116,13 +116,14 @@ void addQuad(mrpt::opengl::CSetOfTexturedTriangles& obj, const TPoint3Df& p00, c
   obj.insertTriangle(t2);
 }
 
+/// `texture` is shared, not copied: the textures of an office take about a gigabyte.
 mrpt::opengl::CSetOfTexturedTriangles::Ptr texturedObject(const cv::Mat& texture) {
   auto obj = mrpt::opengl::CSetOfTexturedTriangles::Create();
   // Unlit: the colour of a surface point does not depend on the viewpoint (a Lambertian surface
   // under fixed light), so the same point looks the same in every frame.
   obj->enableLight(false);
   obj->enableTextureLinearInterpolation(true);
-  obj->assignImage(mrpt::img::CImage(texture.clone(), mrpt::img::DEEP_COPY));
+  obj->assignImage(mrpt::img::CImage(texture, mrpt::img::SHALLOW_COPY));
   return obj;
 }
 
@@ -200,16 +201,15 @@ cv::Mat SyntheticScene::makeTexture(int width, int height, uint64_t seed, double
   // 3. Fine grain (like paper or fabric): low-amplitude noise, slightly blurred.
   cv::Mat noise(h, w, CV_16SC3);
   rng.fill(noise, cv::RNG::NORMAL, 0, 14);
-  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 0.8);
-  cv::Mat tex16;
-  tex.convertTo(tex16, CV_16SC3);
-  tex16 += noise;
-  tex16.convertTo(tex, CV_8UC3);  // saturates
+  cv::Mat grain;  // blurred into a new image: a blur in place copies its input first
+  cv::GaussianBlur(noise, grain, cv::Size(0, 0), 0.8);
+  cv::add(tex, grain, tex, cv::noArray(), CV_8U);  // summed wider, then saturated
 
   // 4. Mild low-pass: the renderer samples textures without mipmaps, so detail much finer than
   // a pixel would alias (flicker) between frames.
-  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 0.7);
-  return tex;
+  cv::Mat smoothed;
+  cv::GaussianBlur(tex, smoothed, cv::Size(0, 0), 0.7);
+  return smoothed;
 }
 
 SyntheticScene::~SyntheticScene() = default;

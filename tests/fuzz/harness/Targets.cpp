@@ -261,8 +261,9 @@ std::string rawlogMrptPrecheck(const Bytes& in, const RunContext& ctx) {
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM}) signal(sig, SIG_DFL);
     alarm(20);
 #if !defined(__SANITIZE_ADDRESS__)
-    // Without AddressSanitizer (which reserves terabytes of address space), cap the address
-    // space so that a huge allocation fails at once instead of being zero-filled.
+    // Without AddressSanitizer (which reserves terabytes of address space, and whose own
+    // allocation cap main.cpp sets), cap the address space so that a huge allocation fails at
+    // once instead of being zero-filled.
     if (const long vm = currentVmSizeMiB(); vm > 0) {
       const rlimit lim{rlim_t(vm + kMrptPrecheckMiB) << 20, rlim_t(vm + kMrptPrecheckMiB) << 20};
       setrlimit(RLIMIT_AS, &lim);

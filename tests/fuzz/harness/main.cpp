@@ -34,6 +34,15 @@ using namespace slamdunk::fuzz;
 #endif
 #endif
 
+#ifdef FUZZ_WITH_ASAN
+// AddressSanitizer reserves terabytes of address space, so no RLIMIT_AS caps what MRPT's
+// deserializers take on a corrupt length field (rawlogMrptPrecheck): a single allocation over
+// the precheck's limit (kMrptPrecheckMiB) ends its child at once instead of zero-filling
+// gigabytes first, which took most of the rawlog target's time. ASAN_OPTIONS may still set it
+// otherwise.
+extern "C" const char* __asan_default_options() { return "max_allocation_size_mb=256"; }
+#endif
+
 // Sanitizer runtimes call this before they end the process on a report (weak: absent otherwise).
 extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
 
