@@ -119,6 +119,27 @@ TEST(RawlogReader, LoadExternalImagesDecodesTheColourImageToo) {
   });
 }
 
+// Starting at a later frame (slamdunk-rawlog --first-frame) reads past the scans before it
+// without loading their images: their files may be missing, and a long recording's skipped
+// part costs no decoding.
+TEST(RawlogReader, PrefetchingFromALaterScanLoadsNothingBeforeIt) {
+  const std::string dir = test::scratchDir("RawlogReader_FirstScan");
+  const std::string path = writeExternalImagesRawlog(dir);
+  const std::string images = RawlogReader::imagesDirectoryFor(path);
+  for (const char* file : {"rgb0.png", "depth0.bin", "rgb1.png", "depth1.bin"})
+    ASSERT_TRUE(std::filesystem::remove(images + "/" + file)) << file;
+  PrefetchingRawlogReader r(path, PrefetchingRawlogReader::kDefaultDepth, 2);
+  const auto scan = r.next();
+  ASSERT_TRUE(scan);
+  EXPECT_EQ(mrpt::Clock::toDouble(scan->timestamp), 2.0);
+  EXPECT_EQ(scan->intensityImage.asCvMatRef().at<cv::Vec3b>(5, 5)[2], 32);
+  EXPECT_FALSE(r.next());
+  EXPECT_EQ(r.entriesRead(), 3u);
+
+  PrefetchingRawlogReader pastTheEnd(path, 1, 5);
+  EXPECT_FALSE(pastTheEnd.next());
+}
+
 namespace {
 /// Nice value of each thread of this process, by thread id (Linux: getpriority of a thread id
 /// gives that thread's own nice value).

@@ -78,7 +78,8 @@ RawlogSlamRun::RawlogSlamRun(RawlogRunOptions options) : options_(std::move(opti
     say(format("[slamdunk-rawlog] loaded map '%s': %zu keyframes, %zu edges", o.startMap.c_str(),
                startMap->keyframeCount(), startMap->edgeCount()));
   }
-  reader_ = std::make_unique<PrefetchingRawlogReader>(o.rawlog);
+  reader_ = std::make_unique<PrefetchingRawlogReader>(
+      o.rawlog, PrefetchingRawlogReader::kDefaultDepth, o.firstFrame);
   slam_ = std::make_unique<SlamSystem>(o.slam, startMap);
 }
 
@@ -126,15 +127,7 @@ std::string RawlogSlamRun::processFrames(RunFigures& fig) {
   const auto start = SteadyClock::now();
   // Frames are built and their features extracted a frame or two ahead, on a thread of their
   // own: they depend on the observation alone, and the tracking thread goes on registering.
-  size_t index = 0;
-  FramePrefetcher frames(
-      [&]() -> mrpt::obs::CObservation3DRangeScan::Ptr {
-        for (;;) {
-          auto obs = reader_->next();
-          if (!obs || index++ >= options_.firstFrame) return obs;
-        }
-      },
-      options_.slam.features);
+  FramePrefetcher frames([&] { return reader_->next(); }, options_.slam.features);
   for (;;) {
     const auto t = SteadyClock::now();
     std::optional<PreparedFrame> prepared;

@@ -6,11 +6,14 @@
 
 namespace slamdunk {
 
-PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth)
-    : reader_(path), prefetcher_([this] { return read(); }, depth) {}
+PrefetchingRawlogReader::PrefetchingRawlogReader(const std::string& path, size_t depth,
+                                                 size_t firstScan)
+    : reader_(path), scansToPass_(firstScan), prefetcher_([this] { return read(); }, depth) {}
 
 std::optional<PrefetchingRawlogReader::Item> PrefetchingRawlogReader::read() {
   Item item;
+  for (; scansToPass_ > 0; --scansToPass_)
+    if (!reader_.next()) return std::nullopt;
   item.scan = reader_.next();
   if (!item.scan) return std::nullopt;
   try {

@@ -12,8 +12,12 @@ namespace slamdunk {
 
 class PrefetchingRawlogReader {
  public:
+  static constexpr size_t kDefaultDepth = 4;
+
   /// Opens the rawlog (throws like RawlogReader) and starts reading up to `depth` scans ahead.
-  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = 4);
+  /// The first `firstScan` range scans are read past without loading their images.
+  explicit PrefetchingRawlogReader(const std::string& path, size_t depth = kDefaultDepth,
+                                   size_t firstScan = 0);
   PrefetchingRawlogReader(const PrefetchingRawlogReader&) = delete;
   PrefetchingRawlogReader& operator=(const PrefetchingRawlogReader&) = delete;
 
@@ -35,6 +39,7 @@ class PrefetchingRawlogReader {
   void handedOut(size_t entriesRead, size_t skipped);
 
   RawlogReader reader_;
+  size_t scansToPass_;  ///< of the first scans, those not yet read past (reading thread only)
   mutable std::mutex countsMutex_;
   size_t entriesRead_ = 0, skipped_ = 0;  ///< of the last item handed out
   Prefetcher<Item> prefetcher_;           ///< last: stopped before the reader it reads
