@@ -175,17 +175,23 @@ SlamRun withoutLoopClosing(const std::string& rawlog, const std::string& dirName
 // The office tour through a camera whose stated focal length is 3 % off its true one: the
 // odometry drifts by decimetres, and at the return the active window no longer holds the first
 // keyframes. Place recognition finds the loop, and its correction at least halves the ATE,
-// inline (deterministic: two runs, one trajectory) and on the optimizer's thread.
+// inline (deterministic: two runs, one trajectory) and on the optimizer's thread. Local
+// optimization alone ends at 0.254 m: the bound is half of that. The long runs
+// (SLAMDUNK_LONG_TESTS=1) also run it, to check that the data still need the correction.
 TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
   REQUIRE_RAWLOG(rawlog, "tour_drift");
-  const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourDrift_Local");
-  EXPECT_GT(local.value("ate_rmse_m"), 0.2) << "the data no longer needs a loop correction";
-  // At the return the window's pool holds the first keyframes 1.1 m off: the frames still
-  // register by their features (against the keyframes near their reference), not by depth.
-  EXPECT_LE(local.value("tracked_depth_only"), 1) << local.result.output;
+  double bound = 0.125;
+  if (test::longTestsEnabled()) {
+    const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourDrift_Local");
+    EXPECT_GT(local.value("ate_rmse_m"), 2 * bound) << "the data no longer need a loop correction";
+    // At the return the window's pool holds the first keyframes 1.1 m off: the frames still
+    // register by their features (against the keyframes near their reference), not by depth.
+    EXPECT_LE(local.value("tracked_depth_only"), 1) << local.result.output;
+    bound = 0.5 * local.value("ate_rmse_m");
+  }
 
   const SlamRun global = runSlam(rawlog, test::scratchDir("Loops_TourDrift"));
-  expectEveryFrameTracked(global, 1100, 0.5 * local.value("ate_rmse_m"));
+  expectEveryFrameTracked(global, 1100, bound);
   EXPECT_GE(global.value("place_loops"), 1) << global.result.output;
   const SlamRun again = runSlam(rawlog, test::scratchDir("Loops_TourDrift_Again"));
   EXPECT_EQ(readFile(global.trajectory), readFile(again.trajectory));
@@ -195,21 +201,26 @@ TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
       runSlam(rawlog, threadDir, configWith(threadDir, "[slam]\noptimizer_thread = true\n"));
   ASSERT_EQ(thread.result.exitCode, 0) << thread.result.output;
   EXPECT_GE(thread.value("place_loops"), 1) << thread.result.output;
-  EXPECT_LT(thread.value("ate_rmse_m"), 0.5 * local.value("ate_rmse_m")) << thread.result.output;
+  EXPECT_LT(thread.value("ate_rmse_m"), bound) << thread.result.output;
 }
 
 // The drifting tour with the corridor from B to C painted almost plain (7 m where a frame
 // finds far fewer features than elsewhere): tracked throughout, and the loop still found and
-// closed at its return.
+// closed at its return. Local optimization alone ends at 0.189 m (the bound is 0.6 times that),
+// its return 0.2 m or 2 degrees off or more: checked in the long runs.
 TEST(SlamdunkRawlogLoops, ATourWithABareCorridorIsTrackedAndClosed) {
   REQUIRE_RAWLOG(rawlog, "tour_drift_bare");
-  const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourBare_Local");
-  const auto [localMetres, localDegrees] = returnError(local.trajectory, rawlog);
-  EXPECT_TRUE(localMetres > 0.2 || localDegrees > 2)
-      << "the data no longer needs a loop correction";
+  double bound = 0.113;
+  if (test::longTestsEnabled()) {
+    const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourBare_Local");
+    const auto [localMetres, localDegrees] = returnError(local.trajectory, rawlog);
+    EXPECT_TRUE(localMetres > 0.2 || localDegrees > 2)
+        << "the data no longer need a loop correction";
+    bound = 0.6 * local.value("ate_rmse_m");
+  }
 
   const SlamRun global = runSlam(rawlog, test::scratchDir("Loops_TourBare"));
-  expectEveryFrameTracked(global, 1100, 0.6 * local.value("ate_rmse_m"));
+  expectEveryFrameTracked(global, 1100, bound);
   EXPECT_GE(global.value("place_loops"), 1) << global.result.output;
   const auto [metres, degrees] = returnError(global.trajectory, rawlog);
   EXPECT_LT(metres, 0.02) << global.result.output;
