@@ -116,7 +116,7 @@ subset=(-E "$(IFS='|'; echo "${ci_long_runs[*]}")")
 [ $all = 1 ] && subset=()
 status=0
 # -FS: the test data are the Release tree's, not made again here.
-ctest --test-dir "$build" --output-on-failure -j"$ctest_jobs" -FS slamdunk_data "${subset[@]}" "$@" ||
+ctest --test-dir "$build" --output-on-failure -j"$(nproc)" -FS slamdunk_data "${subset[@]}" "$@" ||
   status=$?
 echo "sanitize: build $((built - start)) s, tests $((SECONDS - built)) s"
 reports || status=1

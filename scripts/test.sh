@@ -51,7 +51,7 @@ long_runs=(
 )
 subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
 [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && subset=()
-ctest --test-dir build --output-on-failure -j"$ctest_jobs" "${subset[@]}" "$@"
+ctest --test-dir build --output-on-failure -j"$(nproc)" "${subset[@]}" "$@"
 tested=$SECONDS
 echo "test.sh: Release build $((built - start)) s, suite $((tested - built)) s"
 if [ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ]; then

@@ -10,7 +10,3 @@
 # shellcheck disable=SC2034
 sanitized_test_dirs="core;tracking;optimization;loop_closing;graph;grid_map;slam;fuzz;live;live-viewer"
 sanitized_only_test_dirs="core;tracking;optimization;loop_closing;graph;grid_map;slam;fuzz"
-# ctest_jobs: tests at once, as many as cores. One more (4408bcf) filled the time some tests
-# spend waiting, but a replay paced by the clock beside two busy tests then dropped more frames
-# than its test allows (SlamdunkLive.LoadMapContinuesInTheSavedMap, one run of four).
-ctest_jobs=$(nproc)
