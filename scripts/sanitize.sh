@@ -65,29 +65,6 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 # sanitizers took 21 minutes of a CI run). `--all` builds and runs every test.
 source scripts/lib/test-subsets.sh
 ci_test_dirs=$sanitized_test_dirs
-ci_targets=(test_core test_tracking test_tracker_data test_local_optimizer test_loop_closing test_keyframe_graph
-  test_slam_options fuzz-readers test_live_module test_viewer)
-# Left out of the subset's binaries: whole sequences through SLAM (minutes each here, 10-45 times
-# their Release time); their code runs in the tests that stay.
-ci_long_runs=(
-  'LocalOptimizer\.TimingOnRealisticLocalProblems'
-  # The whole synthetic loop through SLAM: checkpoints and resuming, the viewer's scene of a loop
-  # closure. Under the sanitizers instead: checkpoints by time and after SIGKILL, the scene of a
-  # short run (LiveMapSceneSmall).
-  'Checkpoints\.EveryFewKeyframes' 'LiveMapScene\.ShowsTheMap'
-  # Whole two-session and localization-only runs through LiveSlam (62 and 34 s under ASan, a
-  # quarter of the subset's test time). Under the sanitizers instead: LiveSlam's threads,
-  # callbacks and sensors on short runs (PushedFramesAreTrackedAndEveryPoseIsPublished, ...).
-  'LiveSlam\.ASessionOutsideTheStartMapIsToldSoUntilItJoins'
-  'LiveSlam\.LocalizationOnlyKeepsTheStartMapAndSaysWhereItEnds'
-  # Under ASan its second viewer ends with exit code 1 instead of the expected one (first seen
-  # in the run that added the viewer's windows to this subset; open, see the closing note of
-  # issue 43). LiveViewer.ClosingWaitsForTheWindowThreadHoweverLongItIsBusy opens and closes a
-  # window here.
-  'LiveViewer\.TheLastViewerEndsTheWindowThreadHoweverLongItIsBusy'
-  # The targets of these folders that the subset does not build.
-  '_NOT_BUILT$'
-)
 if [ $all = 1 ]; then
   config=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DSLAMDUNK_UBSAN=ON
     -DSLAMDUNK_TEST_DIRS="")
@@ -107,12 +84,12 @@ if [ -d build/test-data ] && [ ! -e "$build/test-data" ]; then
     { rm -rf "$build/test-data"; cp -a build/test-data "$build/test-data"; }
 fi
 start=$SECONDS
-targets=(--target "${ci_targets[@]}")
+targets=(--target "${sanitized_targets[@]}")
 [ $all = 1 ] && targets=()
 cmake --build "$build" -j"$(nproc)" "${targets[@]}" || { reports || true; exit 1; }
 built=$SECONDS
 
-subset=(-E "$(IFS='|'; echo "${ci_long_runs[*]}")")
+subset=(-E "$(IFS='|'; echo "${sanitized_left_out[*]}")")
 [ $all = 1 ] && subset=()
 status=0
 # -FS: the test data are the Release tree's, not made again here.

@@ -3,7 +3,8 @@
 # builds ./build (Release), runs the suite with ctest, then a subset under AddressSanitizer
 # (scripts/sanitize.sh, ./build-asan). The unit tests of the readers, the tracker, the optimizer,
 # the keyframe graph and the options, and the fuzzers' fixed inputs, run there only
-# (scripts/lib/test-subsets.sh). Within 25 minutes on 2 cores; the long runs it leaves out are
+# (scripts/lib/test-subsets.sh), as do the live pipeline's and the viewer's tests that subset
+# runs. Within 25 minutes on 2 cores; the long runs it leaves out are
 # scripts/test-long.sh's.
 # Real recordings are taken from ../shared/data (override with SLAMDUNK_DATA_DIR). Where they,
 # a tool or an X server are missing, tests skip with a message, or fail under
@@ -49,8 +50,11 @@ long_runs=(
   # (CI: the same office with exact depth, tour_twins).
   'Office/SlamdunkRawlogGridMap\.TheOfficesGridMatchesItsGeometry/tour_drift '
 )
-subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
-[ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && subset=()
+[ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && long_runs=()
+# The live pipeline's and the viewer's tests that the sanitizer subset runs too run there only.
+[ "${SLAMDUNK_SKIP_SANITIZERS:-0}" = 1 ] || long_runs+=("$(sanitized_tests_pattern build)")
+subset=()
+[ ${#long_runs[@]} -gt 0 ] && subset=(-E "$(IFS='|'; echo "${long_runs[*]}")")
 ctest --test-dir build --output-on-failure -j"$(nproc)" "${subset[@]}" "$@"
 tested=$SECONDS
 echo "test.sh: Release build $((built - start)) s, suite $((tested - built)) s"

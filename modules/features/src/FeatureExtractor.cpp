@@ -119,4 +119,23 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
   return out;
 }
 
+bool FeatureExtractor::describeTurned(const RgbdFrame& frame, FeatureSet& features,
+                                      double turnDegrees) const {
+#ifdef SLAMDUNK_HAVE_SURF
+  auto* surf = dynamic_cast<Surf*>(detector_.get());
+  if (!surf || features.keypoints.empty()) return false;
+  std::vector<cv::KeyPoint> keypoints = features.keypoints;
+  cv::Mat descriptors;
+  surf->computeTurned(frame.grey(), keypoints, descriptors, static_cast<float>(turnDegrees));
+  if (keypoints.size() != features.keypoints.size())
+    throw std::logic_error("describeTurned(): a described keypoint left the image");
+  features.keypoints = std::move(keypoints);
+  features.descriptors = descriptors;
+  return true;
+#else
+  (void)frame, (void)features, (void)turnDegrees;
+  return false;
+#endif
+}
+
 }  // namespace slamdunk

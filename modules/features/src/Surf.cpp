@@ -106,6 +106,25 @@ void Surf::detectAndCompute(cv::InputArray image, cv::InputArray mask,
     }
   }
 
+  describe(integral, keypoints, descriptors, [this, &integral](const cv::KeyPoint& kp) {
+    return params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
+  });
+}
+
+void Surf::computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoints,
+                         cv::OutputArray descriptors, float angleDegrees) {
+  CV_Assert(!image.empty());
+  const cv::Mat gray = toGray8(image.getMat());
+  removeUndescribable(keypoints, gray.size());
+  const surf::IntegralImage integral(gray, threadWorkspace().integral);
+  float angle = std::fmod(angleDegrees, 360.f);
+  if (angle < 0.f) angle += 360.f;
+  describe(integral, keypoints, descriptors, [angle](const cv::KeyPoint&) { return angle; });
+}
+
+template <class AngleOf>
+void Surf::describe(const surf::IntegralImage& integral, std::vector<cv::KeyPoint>& keypoints,
+                    cv::OutputArray descriptors, const AngleOf& angleOf) const {
   const bool wantDescriptors = descriptors.needed();
   const int n = static_cast<int>(keypoints.size());
   cv::Mat desc;
@@ -121,7 +140,7 @@ void Surf::detectAndCompute(cv::InputArray image, cv::InputArray mask,
       [&](const cv::Range& r) {
         for (int i = r.start; i < r.end; ++i) {
           cv::KeyPoint& kp = keypoints[i];
-          kp.angle = params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
+          kp.angle = angleOf(kp);
           if (!desc.empty()) {
             surf::computeDescriptor(integral, kp, params_.extended, desc.ptr<float>(i));
           }

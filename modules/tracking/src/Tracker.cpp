@@ -82,6 +82,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame, FeatureSet features, dou
   r.timings.pool = msSince(t);
 
   t = SteadyClock::now();
+  if (!lost_) turnDescriptorsToReference(frame, features);
   timing_.beginFrame(frame, features, lastPose_, lost_);
   r.timings.features = extractionMs + msSince(t);
   r.features = features.size();
@@ -396,6 +397,23 @@ TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features
   matchingWholeMap_ = false;
   poolDirty_ = true;
   return r;
+}
+
+void Tracker::turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const {
+  const double limit = extractor_.options().surfRollLimitDeg;
+  if (limit <= 0 || features.keypoints.empty()) return;
+  const KeyframePtr reference = graph_->keyframe(lastReference_);
+  if (!reference || reference->features.keypoints.empty()) return;
+  // The reference's descriptor windows' downward axis (turned too if it was), as the last
+  // pose sees it near the image centre.
+  const float turned = reference->features.keypoints.front().angle;
+  const double a = turned >= 0 ? turned * M_PI / 180.0 : 0.0;
+  const Eigen::Vector3d down =
+      lastPose_.linear().transpose() *
+      (graph_->pose(lastReference_).linear() * Eigen::Vector3d(-std::sin(a), std::cos(a), 0));
+  if (std::hypot(down.x(), down.y()) < 0.3) return;  // looking along it: roll is undefined
+  const double roll = std::atan2(-down.x(), down.y()) * 180.0 / M_PI;
+  if (std::abs(roll) > limit) extractor_.describeTurned(frame, features, roll);
 }
 
 Pose Tracker::newComponentOrigin() const {

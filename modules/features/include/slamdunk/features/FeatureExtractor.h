@@ -30,6 +30,10 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
   int maxFeatures = 500;              ///< cap on features with valid depth per frame
   double surfHessianThreshold = 500;  ///< SURF detector threshold
   bool surfUpright = true;            ///< skip SURF orientation (hand-held cameras stay level)
+  /// Upright SURF describes a rolled view's features rolled with it. A frame rolled by more
+  /// than this (degrees) against the keyframe it is tracked from is described with its windows
+  /// turned by that roll, as that keyframe described them. 0: never (the paper).
+  double surfRollLimitDeg = 10;
   int surfOctaves = 4;
   int orbDetectFeatures = 1000;  ///< ORB detects this many before the depth filter
   int orbFastThreshold = 20;
@@ -52,6 +56,7 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
     k("surf_hessian_threshold", o.surfHessianThreshold);
     k("surf_upright", o.surfUpright);
     k("surf_octaves", o.surfOctaves);
+    k("surf_roll_limit_deg", o.surfRollLimitDeg);
     k("orb_detect_features", o.orbDetectFeatures);
     k("orb_fast_threshold", o.orbFastThreshold);
     k("sift_detect_features", o.siftDetectFeatures);
@@ -78,6 +83,9 @@ class FeatureExtractor {
   const FeatureOptions& options() const { return options_; }
   /// cv::NORM_L2 or cv::NORM_HAMMING
   int descriptorNorm() const;
+  /// Describes the features again with every SURF window turned by turnDegrees (image
+  /// coordinates, y down). False, leaving them as they are, for other feature types.
+  bool describeTurned(const RgbdFrame& frame, FeatureSet& features, double turnDegrees) const;
 
  private:
   FeatureOptions options_;

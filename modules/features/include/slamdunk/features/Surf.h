@@ -9,6 +9,9 @@
 #include <vector>
 
 namespace slamdunk {
+namespace surf {
+class IntegralImage;
+}
 
 /// Settings of slamdunk::Surf (also reachable as Surf::Params).
 struct SurfParams {
@@ -76,9 +79,19 @@ class Surf : public cv::Feature2D {
   cv::String getDefaultName() const override { return "slamdunk.Surf"; }
   bool empty() const override { return false; }
 
+  /// Describes the given keypoints with every descriptor window turned by angleDegrees (image
+  /// coordinates, y down), whatever Params::upright says: a rolled view described as the view
+  /// it is rolled against would describe it. Keypoints outside the image are removed.
+  void computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoints,
+                     cv::OutputArray descriptors, float angleDegrees);
+
   const Params& params() const { return params_; }
 
  private:
+  template <class AngleOf>
+  void describe(const surf::IntegralImage& integral, std::vector<cv::KeyPoint>& keypoints,
+                cv::OutputArray descriptors, const AngleOf& angleOf) const;
+
   Params params_;
 };
 

@@ -132,6 +132,9 @@ class Tracker {
   /// `origin`.
   TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r,
                             const Pose& origin = Pose::Identity());
+  /// Describes a frame rolled by more than [features] surf_roll_limit_deg against its
+  /// reference keyframe's descriptors (as the last pose saw it) with its windows turned to them.
+  void turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const;
   /// Where a new component's first keyframe goes: beside the whole map, far enough that the
   /// component's active window never holds another component's keyframes.
   Pose newComponentOrigin() const;
