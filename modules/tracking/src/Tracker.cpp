@@ -400,8 +400,11 @@ TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features
 }
 
 void Tracker::turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const {
-  const double limit = extractor_.options().surfRollLimitDeg;
-  if (limit <= 0 || features.keypoints.empty()) return;
+  const FeatureOptions& o = extractor_.options();
+  const bool uprightSurf =
+      o.surfUpright && (o.type == FeatureType::SURF64 || o.type == FeatureType::SURF128);
+  const double limit = o.surfRollLimitDeg;
+  if (!uprightSurf || limit <= 0 || features.keypoints.empty()) return;
   const KeyframePtr reference = graph_->keyframe(lastReference_);
   if (!reference || reference->features.keypoints.empty()) return;
   // The reference's descriptor windows' downward axis (turned too if it was), as the last

@@ -32,7 +32,8 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions {
   bool surfUpright = true;            ///< skip SURF orientation (hand-held cameras stay level)
   /// Upright SURF describes a rolled view's features rolled with it. A frame rolled by more
   /// than this (degrees) against the keyframe it is tracked from is described with its windows
-  /// turned by that roll, as that keyframe described them. 0: never (the paper).
+  /// turned by that roll, as that keyframe described them. 0: never (the paper). Upright SURF
+  /// only: oriented SURF, SIFT and ORB turn each window by its keypoint's own orientation.
   double surfRollLimitDeg = 10;
   int surfOctaves = 4;
   int orbDetectFeatures = 1000;  ///< ORB detects this many before the depth filter
