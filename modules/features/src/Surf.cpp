@@ -68,6 +68,35 @@ void removeUndescribable(std::vector<cv::KeyPoint>& keypoints, const cv::Size& i
   keypoints.erase(std::remove_if(keypoints.begin(), keypoints.end(), bad), keypoints.end());
 }
 
+/// Sets each keypoint's angle (angleOf) and writes its descriptor row.
+template <class AngleOf>
+void describe(const surf::IntegralImage& integral, bool extended,
+              std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
+              const AngleOf& angleOf) {
+  const bool wantDescriptors = descriptors.needed();
+  const int n = static_cast<int>(keypoints.size());
+  cv::Mat desc;
+  if (wantDescriptors && n == 0) descriptors.release();
+  if (wantDescriptors && n > 0) {
+    descriptors.create(n, extended ? 128 : 64, CV_32F);
+    desc = descriptors.getMat();
+  }
+  // Every keypoint writes only its own angle and descriptor row: deterministic in parallel.
+  const double stripes = std::ceil(n / static_cast<double>(kKeypointsPerTask));
+  cv::parallel_for_(
+      cv::Range(0, n),
+      [&](const cv::Range& r) {
+        for (int i = r.start; i < r.end; ++i) {
+          cv::KeyPoint& kp = keypoints[i];
+          kp.angle = angleOf(kp);
+          if (!desc.empty()) {
+            surf::computeDescriptor(integral, kp, extended, desc.ptr<float>(i));
+          }
+        }
+      },
+      stripes);
+}
+
 }  // namespace
 
 Surf::Surf(const Params& params) : params_(params) {
@@ -106,9 +135,10 @@ void Surf::detectAndCompute(cv::InputArray image, cv::InputArray mask,
     }
   }
 
-  describe(integral, keypoints, descriptors, [this, &integral](const cv::KeyPoint& kp) {
-    return params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
-  });
+  describe(integral, params_.extended, keypoints, descriptors,
+           [this, &integral](const cv::KeyPoint& kp) {
+             return params_.upright ? -1.f : surf::dominantOrientation(integral, kp);
+           });
 }
 
 void Surf::computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoints,
@@ -119,34 +149,8 @@ void Surf::computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoi
   const surf::IntegralImage integral(gray, threadWorkspace().integral);
   float angle = std::fmod(angleDegrees, 360.f);
   if (angle < 0.f) angle += 360.f;
-  describe(integral, keypoints, descriptors, [angle](const cv::KeyPoint&) { return angle; });
-}
-
-template <class AngleOf>
-void Surf::describe(const surf::IntegralImage& integral, std::vector<cv::KeyPoint>& keypoints,
-                    cv::OutputArray descriptors, const AngleOf& angleOf) const {
-  const bool wantDescriptors = descriptors.needed();
-  const int n = static_cast<int>(keypoints.size());
-  cv::Mat desc;
-  if (wantDescriptors && n == 0) descriptors.release();
-  if (wantDescriptors && n > 0) {
-    descriptors.create(n, descriptorSize(), CV_32F);
-    desc = descriptors.getMat();
-  }
-  // Every keypoint writes only its own angle and descriptor row: deterministic in parallel.
-  const double stripes = std::ceil(n / static_cast<double>(kKeypointsPerTask));
-  cv::parallel_for_(
-      cv::Range(0, n),
-      [&](const cv::Range& r) {
-        for (int i = r.start; i < r.end; ++i) {
-          cv::KeyPoint& kp = keypoints[i];
-          kp.angle = angleOf(kp);
-          if (!desc.empty()) {
-            surf::computeDescriptor(integral, kp, params_.extended, desc.ptr<float>(i));
-          }
-        }
-      },
-      stripes);
+  describe(integral, params_.extended, keypoints, descriptors,
+           [angle](const cv::KeyPoint&) { return angle; });
 }
 
 }  // namespace slamdunk

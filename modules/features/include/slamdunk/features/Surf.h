@@ -9,9 +9,6 @@
 #include <vector>
 
 namespace slamdunk {
-namespace surf {
-class IntegralImage;
-}
 
 /// Settings of slamdunk::Surf (also reachable as Surf::Params).
 struct SurfParams {
@@ -88,10 +85,6 @@ class Surf : public cv::Feature2D {
   const Params& params() const { return params_; }
 
  private:
-  template <class AngleOf>
-  void describe(const surf::IntegralImage& integral, std::vector<cv::KeyPoint>& keypoints,
-                cv::OutputArray descriptors, const AngleOf& angleOf) const;
-
   Params params_;
 };
 
