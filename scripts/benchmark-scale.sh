@@ -21,7 +21,9 @@ if [ ! -f "$tour" ]; then
 fi
 gt=${tour%.rawlog}_groundtruth.txt
 sed 's/^keyframe_overlap .*/keyframe_overlap = 0.95/' config-ini/slamdunk-default.ini > "$work/scale.ini"
-sed 's/^keep_keyframe_images .*/keep_keyframe_images = true/' "$work/scale.ini" > "$work/scale-images.ini"
+# The default INI lists only the key parameters: the images' key goes into its section.
+sed '/^\[tracker\]/a keep_keyframe_images = true' "$work/scale.ini" > "$work/scale-images.ini"
+grep -q '^keep_keyframe_images = true' "$work/scale-images.ini"
 frames=$(grep -vc '^#' "$gt")
 
 source scripts/lib/summary.sh

@@ -1,3 +1,4 @@
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/graph/KeyframeGraph.h>
 
 #include <algorithm>
@@ -15,6 +16,20 @@ void KeyframeGraph::addKeyframe(KeyframePtr keyframe, const Pose& T_world_keyfra
   keyframes_[id] = std::move(keyframe);
   poses_[id] = T_world_keyframe;
   adjacency_[id];
+}
+
+bool KeyframeGraph::compactDescriptors(KeyframeId id) {
+  const KeyframePtr kf = keyframe(id);
+  if (!kf || kf->features.empty() || kf->features.binary() ||
+      compactDescriptorType(kf->features.descriptors.type()))
+    return false;
+  auto compact = std::make_shared<Keyframe>(*kf);
+  compact->features.descriptors = slamdunk::compactDescriptors(kf->features.descriptors);
+  std::unique_lock lock(mutex_);
+  const auto it = keyframes_.find(id);
+  if (it == keyframes_.end() || it->second != kf) return false;  // culled or replaced meanwhile
+  it->second = std::move(compact);
+  return true;
 }
 
 void KeyframeGraph::addMatches(KeyframeId a, KeyframeId b,
@@ -52,7 +67,7 @@ void KeyframeGraph::addMatchesLocked(KeyframeId a, KeyframeId b,
     PointMatch flipped{m.pointJ, m.pointI, m.weight, m.information, m.featureJ, m.featureI};
     const Eigen::Matrix3d R_ba =
         poses_.at(b).linear().transpose() * poses_.at(a).linear();  // b <- a
-    flipped.information = R_ba * m.information * R_ba.transpose();
+    flipped.information = R_ba * m.information.matrix() * R_ba.transpose();
     e.matches.push_back(flipped);
   }
 }

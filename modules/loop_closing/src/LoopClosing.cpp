@@ -121,7 +121,7 @@ void LoopClosing::joinComponents(KeyframeGraph& graph, const LoopHypothesis& loo
       for (PointMatch m : matches[k]) {
         std::swap(m.pointI, m.pointJ);
         std::swap(m.featureI, m.featureJ);
-        m.information = R.transpose() * m.information * R;
+        m.information = R.transpose() * m.information.matrix() * R;
         a.matches.push_back(m);
       }
       anchored.push_back(std::move(a));

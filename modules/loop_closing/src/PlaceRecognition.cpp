@@ -1,3 +1,4 @@
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/loop_closing/PlaceRecognition.h>
 
 #include <opencv2/core.hpp>
@@ -39,9 +40,11 @@ void PlaceRecognition::learnWords(const KeyframeGraph& graph) {
   const int step = std::max(1, rows / kMaxLearningRows);
   std::vector<cv::Mat> sampled;
   int k = 0;
-  for (const KeyframePtr& kf : keyframes)
-    for (int r = 0; r < kf->features.descriptors.rows; ++r, ++k)
-      if (k % step == 0) sampled.push_back(kf->features.descriptors.row(r));
+  for (const KeyframePtr& kf : keyframes) {
+    const cv::Mat rowsOfKeyframe = matchableDescriptors(kf->features.descriptors);
+    for (int r = 0; r < rowsOfKeyframe.rows; ++r, ++k)
+      if (k % step == 0) sampled.push_back(rowsOfKeyframe.row(r));
+  }
   cv::Mat learning;
   cv::vconcat(sampled, learning);
   Vocabulary words =
@@ -83,10 +86,11 @@ std::optional<LoopHypothesis> PlaceRecognition::verify(const Keyframe& query,
                                                        const Keyframe& candidate) const {
   const FeatureSet& q = query.features;
   const FeatureSet& c = candidate.features;
-  if (q.size() < 3 || c.size() < 3 || q.descriptors.type() != c.descriptors.type()) return {};
+  if (q.size() < 3 || c.size() < 3 || q.binary() != c.binary()) return {};
   cv::BFMatcher matcher(q.binary() ? cv::NORM_HAMMING : cv::NORM_L2);
   std::vector<std::vector<cv::DMatch>> knn;
-  matcher.knnMatch(q.descriptors, c.descriptors, knn, 2);
+  matcher.knnMatch(matchableDescriptors(q.descriptors), matchableDescriptors(c.descriptors), knn,
+                   2);
   std::vector<LoopHypothesis::Match> matches;
   std::vector<Eigen::Vector3d> src, dst;
   for (const auto& m : knn) {

@@ -1,3 +1,4 @@
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/loop_closing/Vocabulary.h>
 
 #include <algorithm>
@@ -81,9 +82,7 @@ cv::Mat kMeans(const cv::Mat& rows, int k, int iterations, std::mt19937& random)
 }  // namespace
 
 cv::Mat descriptorRowsAsFloat(const cv::Mat& descriptors) {
-  if (descriptors.type() == CV_32F) return descriptors;
-  if (descriptors.type() != CV_8U)
-    throw std::invalid_argument("descriptors must be CV_32F or CV_8U (binary)");
+  if (descriptors.type() != CV_8U) return matchableDescriptors(descriptors);  // floats
   cv::Mat bits(descriptors.rows, descriptors.cols * 8, CV_32F);
   for (int r = 0; r < descriptors.rows; ++r) {
     const uint8_t* in = descriptors.ptr<uint8_t>(r);

@@ -1,3 +1,4 @@
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/mapping/FeaturePool.h>
 
 #include <nanoflann.hpp>
@@ -94,9 +95,10 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
       std::memcpy(descriptors_.ptr(r), rows[r].data, rowBytes);
       continue;
     }
-    // A keyframe may hold its float descriptors as half floats: the search runs on floats.
+    // A keyframe far from the window holds its descriptors as 8-bit codes: the search runs
+    // on floats.
     const cv::Mat row(1, cols, rows[r].type, const_cast<uchar*>(rows[r].data));
-    row.convertTo(descriptors_.row(r), descriptors_.type());
+    matchableDescriptors(row).copyTo(descriptors_.row(r));
   }
   if (options.index == PoolIndexType::Exact ||
       features_.size() <= static_cast<size_t>(std::max(0, options.bruteForceBelow)))

@@ -101,6 +101,7 @@ void LocalMap::keyframeAdded(KeyframeId id) {
 void LocalMap::requestWindow(const Pose& center, const CameraIntrinsics& K) {
   syncQuadTree();
   const Eigen::Vector2d g = groundPosition(center);
+  compactFarKeyframes(g);
   PoolSnapshot snapshot =
       PoolSnapshot::of(*graph_, quadTree_.querySquare(g.x(), g.y(), options_.windowSize));
   snapshot.frustum = std::make_pair(center, K);
@@ -199,6 +200,18 @@ bool LocalMap::includes(KeyframeId id) const {
 PoolPreparationStats LocalMap::statistics() const {
   std::lock_guard lock(mutex_);
   return stats_;
+}
+
+void LocalMap::compactFarKeyframes(const Eigen::Vector2d& windowCentre) {
+  if (options_.compactBeyond < 0) return;
+  // On the tracking thread, when a window is asked for: offline, the same keyframes are
+  // compacted at the same frame every run.
+  const double reach = 0.5 * options_.windowSize + options_.compactBeyond;
+  for (const auto& [id, g] : indexedPositions_)
+    if ((g - windowCentre).cwiseAbs().maxCoeff() > reach && !compacted_.count(id)) {
+      graph_->compactDescriptors(id);
+      compacted_.insert(id);
+    }
 }
 
 void LocalMap::syncQuadTree() {

@@ -1,6 +1,7 @@
 #include <slamdunk/core/IniOptions.h>
 #include <slamdunk/mapping/LocalMap.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace slamdunk {
@@ -15,6 +16,7 @@ void LocalMapOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cf
           "window_shift_angle must be in [0, 180]");
   require(handoverFrames >= 0, "pool_handover_frames must be >= 0");
   require(handoverFeaturesPerFrame > 0, "pool_handover_features_per_frame must be > 0");
+  require(std::isfinite(compactBeyond), "compact_beyond must be a number");
   require(pool.neighbours >= 2, "knn_neighbours must be >= 2");
   require(pool.searchThreads >= 1, "search_threads must be >= 1");
   require(pool.bruteForceBelow >= 0, "pool_brute_force_below must be >= 0");

@@ -1,6 +1,7 @@
 #include "KeyframeGraphCodec.h"
 
 #include <slamdunk/core/PngHeader.h>
+#include <slamdunk/features/CompactDescriptors.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -19,7 +20,8 @@
 //     intrinsics: i32 width, i32 height, f64 fx fy cx cy, f64 dist[5]
 //     pose T_world_keyframe (optical frame): f64 x 12 (rotation row-major, then translation)
 //     u32 n; per keypoint: f32 x y size angle response, i32 octave class_id
-//     descriptors: matrix block (raw)
+//     descriptors: matrix block (raw; CV_8S rows are float descriptors as 8-bit codes,
+//                  features/CompactDescriptors.h)
 //     points: n x f64[3]
 //     colour: u8 present; if present a matrix block (PNG when 8/16-bit with 1, 3 or 4 channels)
 //     depth:  u8 present; if present a matrix block: CV_32F metres, bit-exact either as scaled
@@ -229,8 +231,9 @@ void validateKeyframe(const Keyframe& kf, const Pose& pose) {
     if (!p.allFinite()) corrupt(k + ": a feature point is not finite");
   if (!f.keypoints.empty()) {
     const int t = f.descriptors.type();
-    if (f.descriptors.cols < 1 || (t != CV_32FC1 && t != CV_8UC1))
-      corrupt(k + ": descriptors must be a CV_32F or CV_8U matrix with one row per keypoint");
+    if (f.descriptors.cols < 1 || (t != CV_32FC1 && t != CV_8UC1 && !compactDescriptorType(t)))
+      corrupt(k +
+              ": descriptors must be a CV_32F, CV_8U or CV_8S matrix with one row per keypoint");
     if (t == CV_32FC1 && !allFinite(f.descriptors)) corrupt(k + ": a descriptor is not finite");
   }
   // The full images are stored bit-exact whatever they hold (their readers check sizes and
@@ -364,8 +367,8 @@ std::shared_ptr<KeyframeGraph> readKeyframeGraph(mrpt::serialization::CArchive& 
     if (!d.empty()) {
       if (!withDescriptors) {
         withDescriptors = kf.get();
-      } else if (d.type() != withDescriptors->features.descriptors.type() ||
-                 d.cols != withDescriptors->features.descriptors.cols) {
+      } else if (d.cols != withDescriptors->features.descriptors.cols ||
+                 kf->features.binary() != withDescriptors->features.binary()) {
         corrupt("keyframes " + std::to_string(withDescriptors->id) + " and " +
                 std::to_string(kf->id) + " have descriptors of different kinds");
       }
@@ -386,11 +389,13 @@ std::shared_ptr<KeyframeGraph> readKeyframeGraph(mrpt::serialization::CArchive& 
       pm.pointI = readVec3(in);
       pm.pointJ = readVec3(in);
       in >> pm.weight;
+      Eigen::Matrix3d information;  // stored whole; the graph keeps its lower triangle
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) in >> pm.information(r, c);
+        for (int c = 0; c < 3; ++c) in >> information(r, c);
+      pm.information = information;
       if (version >= 1) in >> pm.featureI >> pm.featureJ;
       if (!pm.pointI.allFinite() || !pm.pointJ.allFinite() || !std::isfinite(pm.weight) ||
-          pm.weight < 0 || !pm.information.allFinite())
+          pm.weight < 0 || !information.allFinite())
         corrupt("edge " + std::to_string(i) + "-" + std::to_string(j) +
                 ": a match has a non-finite or negative value");
       if ((pm.featureI != PointMatch::kNoFeature &&

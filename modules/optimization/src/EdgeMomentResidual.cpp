@@ -22,7 +22,7 @@ EdgeMomentResidual::EdgeMomentResidual(const std::vector<PointMatch>& matches,
     const PointMatch& m = matches[k];
     Eigen::Vector4d y;
     y << m.pointJ - centroidJ_, 1.0;
-    const Eigen::Matrix3d W = weights[k] * m.information;
+    const Eigen::Matrix3d W = weights[k] * m.information.matrix();
     const Eigen::Vector3d Wp = W * m.pointI;
     for (int c = 0; c < 4; ++c) {
       v.segment<3>(3 * c) += y[c] * Wp;

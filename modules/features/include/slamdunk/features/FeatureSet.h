@@ -10,7 +10,9 @@ namespace slamdunk {
 
 struct FeatureSet {
   std::vector<cv::KeyPoint> keypoints;  ///< raw (distorted) image coordinates
-  cv::Mat descriptors;                  ///< one row per keypoint (CV_32F or CV_8U for binary)
+  /// One row per keypoint: CV_32F, CV_8U for binary ones, or CV_8S for float ones kept as 8-bit
+  /// codes (CompactDescriptors.h).
+  cv::Mat descriptors;
   std::vector<Eigen::Vector3d> points;  ///< optical-frame 3D point of each keypoint, metres
 
   size_t size() const { return keypoints.size(); }

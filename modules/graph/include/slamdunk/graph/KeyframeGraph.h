@@ -16,6 +16,33 @@
 
 namespace slamdunk {
 
+/// A symmetric 3×3 matrix kept as its lower triangle: 6 doubles instead of 9, a sixth of a
+/// point match. Read as an Eigen matrix (the upper triangle mirrors the lower); set from any
+/// 3×3 Eigen expression, whose upper triangle is then ignored (Cholesky reads only the lower).
+class SymmetricMatrix3 {
+ public:
+  SymmetricMatrix3() : SymmetricMatrix3(Eigen::Matrix3d::Identity()) {}
+  template <class Derived>
+  SymmetricMatrix3(const Eigen::MatrixBase<Derived>& m) {  // NOLINT: converts like a matrix
+    for (int r = 0, k = 0; r < 3; ++r)
+      for (int c = 0; c <= r; ++c) lower_[k++] = m(r, c);
+  }
+  Eigen::Matrix3d matrix() const {
+    Eigen::Matrix3d m;
+    for (int r = 0, k = 0; r < 3; ++r)
+      for (int c = 0; c <= r; ++c) m(r, c) = m(c, r) = lower_[k++];
+    return m;
+  }
+  operator Eigen::Matrix3d() const { return matrix(); }  // NOLINT
+  double operator()(int r, int c) const {
+    return r >= c ? lower_[lowerIndex(r, c)] : lower_[lowerIndex(c, r)];
+  }
+
+ private:
+  static int lowerIndex(int r, int c) { return r * (r + 1) / 2 + c; }
+  double lower_[6];
+};
+
 /// One feature match between two keyframes, as 3D points in each keyframe's own frame.
 /// Its cost is weight · eᵀ Ω e with e = p_i − T_i⁻¹ T_j p_j (paper Eq. 4-5 when Ω = I).
 struct PointMatch {
@@ -24,7 +51,7 @@ struct PointMatch {
   double weight = 1.0;     ///< 1 - θ' (paper Sec. 4.3)
   /// Normalised information of e in keyframe i's frame (symmetric positive definite). The
   /// identity is the paper's isotropic cost; a depth-noise model makes it ray-aligned.
-  Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  SymmetricMatrix3 information;
   /// The matched features' indices in keyframe i's and j's FeatureSet, when the match joins two
   /// features (a bundle adjustment then follows each feature through the keyframes that saw
   /// it); kNoFeature for matches of dense depth.
@@ -36,7 +63,7 @@ struct PointMatch {
   /// eᵀ Ω e for a relative pose T_i⁻¹ T_j (without the weight).
   double squaredError(const Eigen::Isometry3d& relative) const {
     const Eigen::Vector3d e = pointI - relative * pointJ;
-    return e.dot(information * e);
+    return e.dot(information.matrix() * e);
   }
 };
 
@@ -78,6 +105,11 @@ class KeyframeGraph {
   /// relative pose the two have now.
   void cullKeyframe(KeyframeId id, KeyframeId successor, const std::vector<KeyframeEdge>& rewired);
 
+  /// Keeps the keyframe's float descriptors as 8-bit codes from now on (CompactDescriptors.h),
+  /// for a keyframe far from the active window. A copy replaces the keyframe: whoever holds it
+  /// keeps what they have. False if there was nothing to compact (an unknown id, binary or
+  /// already compact descriptors).
+  bool compactDescriptors(KeyframeId id);
   size_t keyframeCount() const;
   size_t edgeCount() const;
   bool contains(KeyframeId id) const;

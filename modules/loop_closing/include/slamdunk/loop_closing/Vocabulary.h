@@ -40,8 +40,8 @@ class Vocabulary {
   int dims_ = 0;
 };
 
-/// Rows as CV_32F: float descriptors as they are, binary ones as one float (0 or 1) per bit,
-/// so that squared Euclidean distances are Hamming distances.
+/// Rows as CV_32F: float descriptors as they are (8-bit codes read back), binary ones as one float
+/// (0 or 1) per bit, so that squared Euclidean distances are Hamming distances.
 cv::Mat descriptorRowsAsFloat(const cv::Mat& descriptors);
 
 }  // namespace slamdunk

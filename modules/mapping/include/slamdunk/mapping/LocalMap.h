@@ -25,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -48,6 +49,11 @@ struct LocalMapOptions : public mrpt::config::CLoadableOptions {
   /// features of its keyframes (the build takes about that long at the offline frame rate):
   /// small windows arrive early, big ones do not make tracking wait.
   int handoverFeaturesPerFrame = 3000;
+  /// Keyframes farther than this beyond the window's edge (metres, measured on the ground plane
+  /// as the window is) keep their float descriptors as 8-bit codes: a quarter of their memory.
+  /// No pool of the place the camera is in reads them; a return there, relocalization and place
+  /// recognition read them back as floats. Negative: never.
+  double compactBeyond = 1.0;
   FeaturePoolOptions pool;
 
   /// Its INI keys (section [local_map]), listed once for loading and saving.
@@ -59,6 +65,7 @@ struct LocalMapOptions : public mrpt::config::CLoadableOptions {
     k("pool_in_background", o.backgroundPreparation);
     k("pool_handover_frames", o.handoverFrames);
     k("pool_handover_features_per_frame", o.handoverFeaturesPerFrame);
+    k("compact_beyond", o.compactBeyond);
     FeaturePoolOptions::forEachKey(o.pool, k);
   }
 
@@ -109,6 +116,7 @@ class LocalMap {
  private:
   struct Job;
   void syncQuadTree();
+  void compactFarKeyframes(const Eigen::Vector2d& windowCentre);
   std::shared_ptr<Job> submit(PoolSnapshot snapshot, bool window, uint64_t due);
   void handOver(const Job& job);
   void rebuildPool();
@@ -118,6 +126,7 @@ class LocalMap {
   std::shared_ptr<KeyframeGraph> graph_;
   QuadTree quadTree_;
   std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
+  std::set<KeyframeId> compacted_;  ///< keyframes whose descriptors are 8-bit codes (or binary)
 
   // Tracking thread only.
   FeaturePool pool_;
