@@ -51,7 +51,7 @@ struct PointMatch {
   double weight = 1.0;     ///< 1 - θ' (paper Sec. 4.3)
   /// Normalised information of e in keyframe i's frame (symmetric positive definite). The
   /// identity is the paper's isotropic cost; a depth-noise model makes it ray-aligned.
-  SymmetricMatrix3 information;
+  SymmetricMatrix3 information{};
   /// The matched features' indices in keyframe i's and j's FeatureSet, when the match joins two
   /// features (a bundle adjustment then follows each feature through the keyframes that saw
   /// it); kNoFeature for matches of dense depth.

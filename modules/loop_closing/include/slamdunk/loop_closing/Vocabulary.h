@@ -14,7 +14,7 @@ namespace slamdunk {
 class Vocabulary {
  public:
   Vocabulary() = default;
-  /// Learns the words from the rows of `descriptors` (CV_32F, or CV_8U binary): `branching`
+  /// Learns the words from the rows of `descriptors` (floats, or CV_8U binary): `branching`
   /// clusters of the rows, `branching` clusters within each, and so on down `levels` levels,
   /// each by `iterations` rounds of Lloyd's algorithm from a k-means++ start drawn with `seed`.
   /// A cluster of no more rows than `branching` takes its rows as its children.
@@ -24,7 +24,7 @@ class Vocabulary {
   bool empty() const { return nodes_.empty(); }
   /// Number of words (ids run from 0 to size() - 1).
   size_t size() const { return words_; }
-  /// The word of each row of `descriptors` (same type as learned from).
+  /// The word of each row of `descriptors` (floats however stored, or binary, as learned from).
   std::vector<uint32_t> words(const cv::Mat& descriptors) const;
 
  private:
