@@ -410,6 +410,12 @@ TEST(KeyframeGraphMap, NewerClassVersionIsReportedAsSuch) {
   EXPECT_EQ(CKeyframeGraphMap::loadFromFile(same)->graph()->keyframeCount(),
             graph->keyframeCount());
 
+  // Version 1, maps written before keyframes kept 8-bit descriptors, has the same layout.
+  bytes[versionAt] = char(1);
+  writeBytes(same, bytes, true);
+  EXPECT_EQ(CKeyframeGraphMap::loadFromFile(same)->graph()->keyframeCount(),
+            graph->keyframeCount());
+
   bytes[versionAt] = char(CKeyframeGraphMap::kSerializationVersion + 3);
   const std::string newer = dir + "/newer.kfmap";
   writeBytes(newer, bytes, true);

@@ -20,8 +20,7 @@
 //     intrinsics: i32 width, i32 height, f64 fx fy cx cy, f64 dist[5]
 //     pose T_world_keyframe (optical frame): f64 x 12 (rotation row-major, then translation)
 //     u32 n; per keypoint: f32 x y size angle response, i32 octave class_id
-//     descriptors: matrix block (raw; CV_8S rows are float descriptors as 8-bit codes,
-//                  features/CompactDescriptors.h)
+//     descriptors: matrix block (raw)
 //     points: n x f64[3]
 //     colour: u8 present; if present a matrix block (PNG when 8/16-bit with 1, 3 or 4 channels)
 //     depth:  u8 present; if present a matrix block: CV_32F metres, bit-exact either as scaled
@@ -34,6 +33,9 @@
 // Version 1 then adds the features' positions refined by the bundle adjustment:
 //   u32 count, then per keyframe that has them (increasing id): u32 id, u32 n (its feature
 //   count), n x f64[3] (in the keyframe's frame)
+// Version 2 has version 1's layout; a keyframe's descriptors may be CV_8S rows (8-bit codes of
+// float descriptors, kept by keyframes far from the window), which builds that read up to
+// version 1 refuse as corrupt: the version tells them the file is newer instead.
 // Matrix block: i32 rows, i32 cols, i32 cv type, u8 encoding (0 raw, 1 PNG, 2 scaled 16-bit
 // PNG followed by f32 units), u64 byte count, bytes. Raw bytes are the matrix' own (little-endian
 // on every platform this builds on).

@@ -33,8 +33,9 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
   DEFINE_SERIALIZABLE(CKeyframeGraphMap, slamdunk)
 
  public:
-  /// Newest serialization version this build writes and reads.
-  static constexpr uint8_t kSerializationVersion = 1;
+  /// Newest serialization version this build writes and reads (2: descriptors may be 8-bit
+  /// codes, which a build reading up to 1 would take for a corrupt file).
+  static constexpr uint8_t kSerializationVersion = 2;
 
   CKeyframeGraphMap();
   /// Shares the graph (no copy): the map shows what the SLAM system is building. The map never
