@@ -43,6 +43,7 @@ Pose mapInScene(const Trajectory& keyframes, const Trajectory& gt) {
 
 struct OfficeRun {
   const char* rawlog;
+  bool sharedRun;  ///< the suite's shared run of the rawlog has the grid (shared-runs/<rawlog>)
   FloorPlan plan;
   double cells;          ///< how near a wall or box an occupied cell must lie
   double minOnGeometry;  ///< share of occupied cells that do
@@ -60,13 +61,23 @@ class SlamdunkRawlogGridMap : public ::testing::TestWithParam<OfficeRun> {};
 // occupied cells within 3.
 TEST_P(SlamdunkRawlogGridMap, TheOfficesGridMatchesItsGeometry) {
   REQUIRE_RAWLOG(rawlog, GetParam().rawlog);
-  const std::string dir = test::scratchDir(std::string("GridMap_") + GetParam().rawlog);
-  const std::string prefix = dir + "/office", map = dir + "/office.map";
-  const auto run = test::runCommand(
-      test::toolPath("slamdunk-rawlog") + " " + test::shellQuote(rawlog) + " -q --trajectory " +
-      test::shellQuote(dir + "/trajectory.txt") + " --gridmap " + test::shellQuote(prefix) +
-      " --save-map " + test::shellQuote(map));
-  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::string dir, map;
+  if (GetParam().sharedRun) {
+    dir = test::sharedRunDir(GetParam().rawlog);
+    if (dir.empty())
+      SLAMDUNK_SKIP("the shared run '" << GetParam().rawlog << "' was not made (test shared_run_"
+                                       << GetParam().rawlog << ")");
+    map = dir + "/run.map";
+  } else {
+    dir = test::scratchDir(std::string("GridMap_") + GetParam().rawlog);
+    map = dir + "/office.map";
+    const auto run = test::runCommand(
+        test::toolPath("slamdunk-rawlog") + " " + test::shellQuote(rawlog) + " -q --trajectory " +
+        test::shellQuote(dir + "/trajectory.txt") + " --gridmap " +
+        test::shellQuote(dir + "/office") + " --save-map " + test::shellQuote(map));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+  }
+  const std::string prefix = dir + "/office";
 
   // The app's grid is the library's on the saved map, cell for cell.
   const auto graph = CKeyframeGraphMap::loadFromFile(map)->graph();
@@ -128,8 +139,8 @@ TEST_P(SlamdunkRawlogGridMap, TheOfficesGridMatchesItsGeometry) {
   EXPECT_GE(besideShare, 0.95);
 }
 
-INSTANTIATE_TEST_SUITE_P(Office, SlamdunkRawlogGridMap,
-                         ::testing::Values(OfficeRun{"tour_twins", FloorPlan::officeWithTwinRooms(),
-                                                     1, 0.9},
-                                           OfficeRun{"tour_drift", FloorPlan::office(), 4, 0.95}),
-                         [](const auto& info) { return std::string(info.param.rawlog); });
+INSTANTIATE_TEST_SUITE_P(
+    Office, SlamdunkRawlogGridMap,
+    ::testing::Values(OfficeRun{"tour_twins", true, FloorPlan::officeWithTwinRooms(), 1, 0.9},
+                      OfficeRun{"tour_drift", false, FloorPlan::office(), 4, 0.95}),
+    [](const auto& info) { return std::string(info.param.rawlog); });

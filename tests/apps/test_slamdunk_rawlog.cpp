@@ -33,8 +33,27 @@ std::string q(const std::string& s) { return test::shellQuote(s); }
 struct SlamRun {
   test::CommandResult result;
   std::string trajectory;
+  std::string map;  ///< the saved map, when there is one
   double value(const std::string& key) const { return test::jsonValue(result.output, key); }
 };
+
+/// A run that several tests share (tests/apps/CMakeLists.txt, slamdunk_shared_run): it exited 0
+/// and saved its map. Skips the test (or fails it, SLAMDUNK_REQUIRE_DATA=1) when it was not made.
+#define REQUIRE_SHARED_RUN(var, name)                                                      \
+  const std::string var##Dir = ::slamdunk::test::sharedRunDir(name);                       \
+  if (var##Dir.empty())                                                                    \
+    SLAMDUNK_SKIP("the shared run '" << name << "' was not made (test shared_run_" << name \
+                                     << ")");                                              \
+  const SlamRun var = sharedRun(var##Dir)
+
+SlamRun sharedRun(const std::string& dir) {
+  SlamRun r;
+  r.result.exitCode = 0;
+  r.result.output = test::readFile(dir + "/output.txt");
+  r.trajectory = dir + "/trajectory.txt";
+  r.map = dir + "/run.map";
+  return r;
+}
 
 SlamRun runSlam(const std::string& rawlog, const std::string& outDir, const std::string& extra = "",
                 bool withGt = true) {
@@ -103,10 +122,7 @@ using test::readFile;
 // at 1.5 mm and the feature-only BA cannot improve it.)
 TEST(SlamdunkRawlog, SyntheticLoopIsAccurateClosesTheLoopAndOptimizationBeatsTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  const std::string dir = test::scratchDir("Slam_SyntheticLoopDefault");
-  const std::string config = defaultConfig();
-  const SlamRun opt = runSlam(rawlog, dir, config);
-  ASSERT_EQ(opt.result.exitCode, 0) << opt.result.output;
+  REQUIRE_SHARED_RUN(opt, "synthetic_loop");  // the shipped INI
   EXPECT_EQ(opt.value("lost"), 0) << opt.result.output;
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
   EXPECT_GE(opt.value("optimizations"), 1) << opt.result.output;
@@ -114,7 +130,8 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateClosesTheLoopAndOptimizationBeatsTra
   EXPECT_GT(opt.value("optimizer_share"), 0.01) << opt.result.output;
   EXPECT_LT(opt.value("optimizer_share"), 0.9) << opt.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
-  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopDefault_NoOpt", config);
+  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopDefault_NoOpt",
+                                       defaultConfig());
 }
 
 // With the paper's 3D-3D cost (residual_form = edge), weighing edge matches by keypoint scale
@@ -235,7 +252,7 @@ TEST(SlamdunkRawlogLoops, ATourWithABareCorridorIsTrackedAndClosed) {
 // long runs, SLAMDUNK_LONG_TESTS=1).
 TEST(SlamdunkRawlogLoops, TwinRoomsAreNotTakenForOnePlace) {
   REQUIRE_RAWLOG(rawlog, "tour_twins");
-  const SlamRun r = runSlam(rawlog, test::scratchDir("Loops_Twins"));
+  REQUIRE_SHARED_RUN(r, "tour_twins");
   expectEveryFrameTracked(r, 1100, 0.03);
   EXPECT_EQ(r.value("place_loops"), 0) << r.result.output;
   EXPECT_GE(r.value("place_candidates_refused"), 5) << "the twin rooms no longer look alike";
@@ -265,7 +282,7 @@ TEST(SlamdunkRawlog, SyntheticSweepIsAccurate) {
 // held to its budget (without one it grows to about 16,400 features by the last frame).
 TEST(SlamdunkRawlog, SevenScenesAllTrackedWithinBounds) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  const SlamRun run = runSlam(rawlog, test::scratchDir("Slam_7Scenes"), defaultConfig());
+  REQUIRE_SHARED_RUN(run, "7scenes");  // the shipped INI
   expectEveryFrameTracked(run, 1000, 0.038);
   EXPECT_LE(run.value("pool_features_max"), 10000);
 }
@@ -384,12 +401,13 @@ TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectories) {
   EXPECT_EQ(ta, tb);
 }
 
+// The suite's shared run of 7-Scenes' first 300 frames, and this test's own.
 TEST(SlamdunkRawlog, TwoRunsGiveIdenticalTrajectoriesOnRealData) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  const SlamRun a = runSlam(rawlog, test::scratchDir("Slam_Determinism7_A"), "--max-frames 300");
-  const SlamRun b = runSlam(rawlog, test::scratchDir("Slam_Determinism7_B"), "--max-frames 300");
-  ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
+  REQUIRE_SHARED_RUN(a, "7scenes_300");
+  const SlamRun b = runSlam(rawlog, test::scratchDir("Slam_Determinism7"), "--max-frames 300");
   ASSERT_EQ(b.result.exitCode, 0) << b.result.output;
+  EXPECT_EQ(a.value("frames"), 300) << a.result.output;
   EXPECT_EQ(readFile(a.trajectory), readFile(b.trajectory));
 }
 
@@ -807,21 +825,16 @@ double rmseInMapFrame(const Trajectory& est, const Trajectory& gt, double* maxEr
   return n ? std::sqrt(sq / n) : std::nan("");
 }
 
-/// Maps the first `half` frames and saves the map, then runs the next `half` frames from the
-/// saved map: the camera must relocalize within its first 10 frames, track all of them, and
-/// keep its trajectory in the saved map's frame within `maxRmse` of the ground truth (no
-/// alignment: the first half's own error counts).
-void expectSecondHalfRelocalizedInTheSavedMap(const std::string& rawlog, const std::string& dir,
-                                              int half, double maxRmse) {
-  const std::string map = dir + "/first-half.map";
-  const SlamRun first =
-      runSlam(rawlog, dir, "--max-frames " + std::to_string(half) + " --save-map " + q(map));
+/// Runs the `half` frames after the first `half` from the map `first` saved of those: the
+/// camera must relocalize within its first 10 frames, track all of them, and keep its
+/// trajectory in the saved map's frame within `maxRmse` of the ground truth (no alignment: the
+/// first half's own error counts).
+void expectSecondHalfRelocalizedInTheSavedMap(const std::string& rawlog, const SlamRun& first,
+                                              const std::string& dir, int half, double maxRmse) {
   ASSERT_EQ(first.result.exitCode, 0) << first.result.output;
-  ASSERT_TRUE(fs::exists(map));
-  const std::string second = dir + "/second";
-  fs::create_directories(second);
+  ASSERT_TRUE(fs::exists(first.map));
   const SlamRun r =
-      runSlam(rawlog, second, "--first-frame " + std::to_string(half) + " --load-map " + q(map));
+      runSlam(rawlog, dir, "--first-frame " + std::to_string(half) + " --load-map " + q(first.map));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   double maxInMap = 0;
   const double rmseInMap = rmseInMapFrame(
@@ -931,36 +944,38 @@ TEST(SlamdunkRawlogMaps, ASessionInTheTwinOfAMappedRoomIsNotJoinedToIt) {
 // with the dense depth term, which exact depth favours).
 TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfTheSyntheticLoopInTheSavedMap) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
-  expectSecondHalfRelocalizedInTheSavedMap(rawlog, test::scratchDir("SlamMaps_RelocLoop"), 200,
-                                           0.015);
+  REQUIRE_SHARED_RUN(firstHalf, "synthetic_loop_200");
+  expectSecondHalfRelocalizedInTheSavedMap(rawlog, firstHalf,
+                                           test::scratchDir("SlamMaps_RelocLoop"), 200, 0.015);
 }
 
 // The figure includes the first half's own mapping error (measured 0.0550 m, max 0.0875 m, in 2
 // runs; with the loaded map shifted 10 cm, 0.131 m).
 TEST(SlamdunkRawlogMaps, RelocalizesTheSecondHalfOfSevenScenes) {
   REQUIRE_RAWLOG(rawlog, "7scenes");
-  expectSecondHalfRelocalizedInTheSavedMap(rawlog, test::scratchDir("SlamMaps_Reloc7"), 500, 0.08);
+  const std::string dir = test::scratchDir("SlamMaps_Reloc7");
+  SlamRun firstHalf =
+      runSlam(rawlog, dir, "--max-frames 500 --save-map " + q(dir + "/first-half.map"));
+  firstHalf.map = dir + "/first-half.map";
+  const std::string second = dir + "/second";
+  fs::create_directories(second);
+  expectSecondHalfRelocalizedInTheSavedMap(rawlog, firstHalf, second, 500, 0.08);
 }
 
 // ------------------------------------------------------------------ localization only
 
 namespace {
 
-/// Maps `rawlog` (its first `mapFrames` frames; 0 = all) and saves the map, then replays the
-/// whole of it in localization only (--localize, and `extra`), saving the map again.
-std::pair<SlamRun, SlamRun> mapThenLocalize(const std::string& rawlog, const std::string& dir,
-                                            size_t mapFrames = 0, const std::string& extra = "") {
-  const std::string frames = mapFrames ? " --max-frames " + std::to_string(mapFrames) : "";
-  SlamRun mapping = runSlam(rawlog, dir, frames + " --save-map " + q(dir + "/mapped.map"));
-  EXPECT_EQ(mapping.result.exitCode, 0) << mapping.result.output;
-  const std::string again = dir + "/localized";
-  fs::create_directories(again);
+/// Replays the whole of `rawlog` in localization only (--localize, and `extra`) in the map
+/// `mapping` saved, into dir: the map saved again as dir/after.map, the frame log dir/f.csv.
+SlamRun localizeIn(const SlamRun& mapping, const std::string& rawlog, const std::string& dir,
+                   const std::string& extra = "") {
   SlamRun localized =
-      runSlam(rawlog, again,
-              "--load-map " + q(dir + "/mapped.map") + " --localize --save-map " +
-                  q(again + "/after.map") + " --frame-log " + q(again + "/f.csv") + " " + extra);
+      runSlam(rawlog, dir,
+              "--load-map " + q(mapping.map) + " --localize --save-map " + q(dir + "/after.map") +
+                  " --frame-log " + q(dir + "/f.csv") + " " + extra);
   EXPECT_EQ(localized.result.exitCode, 0) << localized.result.output;
-  return {std::move(mapping), std::move(localized)};
+  return localized;
 }
 
 }  // namespace
@@ -970,8 +985,9 @@ std::pair<SlamRun, SlamRun> mapThenLocalize(const std::string& rawlog, const std
 // accurate as mapping was.
 TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksTheMappedSequenceWithoutChangingTheMap) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  REQUIRE_SHARED_RUN(mapping, "synthetic_loop");
   const std::string dir = test::scratchDir("SlamMaps_Localize");
-  const auto [mapping, localized] = mapThenLocalize(rawlog, dir);
+  const SlamRun localized = localizeIn(mapping, rawlog, dir);
   std::cout << "mapping: ATE " << mapping.value("ate_rmse_m") << " m, "
             << mapping.value("keyframes") << " keyframes; localization only: ATE "
             << localized.value("ate_rmse_m") << " m, " << localized.value("frames_outside_map")
@@ -979,7 +995,7 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksTheMappedSequenceWithoutChangingT
   EXPECT_EQ(localized.value("tracked"), 400) << localized.result.output;
   EXPECT_EQ(localized.value("keyframes"), 0);
   EXPECT_EQ(localized.value("optimizations"), 0);
-  EXPECT_EQ(readFile(dir + "/localized/after.map"), readFile(dir + "/mapped.map"));
+  EXPECT_EQ(readFile(dir + "/after.map"), readFile(mapping.map));
   EXPECT_LE(localized.value("ate_rmse_m"), 1.1 * mapping.value("ate_rmse_m"));
   EXPECT_EQ(localized.value("frames_outside_map"), 0) << "the map covers every view it was made of";
 }
@@ -990,15 +1006,14 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksTheMappedSequenceWithoutChangingT
 TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksASecondLapInTheFirstLapsMap) {
   REQUIRE_RAWLOG(firstLap, "synthetic_loop");
   REQUIRE_RAWLOG(secondLap, "synthetic_loop_lap2");
+  REQUIRE_SHARED_RUN(firstLapMapped, "synthetic_loop");
   const std::string dir = test::scratchDir("SlamMaps_LocalizeLap");
-  const SlamRun mapped = runSlam(firstLap, dir, "--save-map " + q(dir + "/lap1.map"));
-  ASSERT_EQ(mapped.result.exitCode, 0) << mapped.result.output;
   const std::string alone = dir + "/alone", localized = dir + "/localized";
   fs::create_directories(alone);
   fs::create_directories(localized);
   const SlamRun mapping = runSlam(secondLap, alone);
   const SlamRun r = runSlam(secondLap, localized,
-                            "--load-map " + q(dir + "/lap1.map") + " --localize --save-map " +
+                            "--load-map " + q(firstLapMapped.map) + " --localize --save-map " +
                                 q(localized + "/after.map"));
   ASSERT_EQ(r.result.exitCode, 0) << r.result.output;
   std::cout << "second lap: mapped on its own ATE " << mapping.value("ate_rmse_m") << " m ("
@@ -1007,7 +1022,7 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksASecondLapInTheFirstLapsMap) {
             << " frames outside the map\n";
   EXPECT_EQ(r.value("tracked"), 330) << r.result.output;
   EXPECT_EQ(r.value("keyframes"), 0);
-  EXPECT_EQ(readFile(localized + "/after.map"), readFile(dir + "/lap1.map"));
+  EXPECT_EQ(readFile(localized + "/after.map"), readFile(firstLapMapped.map));
   EXPECT_LE(r.value("ate_rmse_m"), 1.1 * mapping.value("ate_rmse_m"));
 }
 
@@ -1016,13 +1031,14 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyTracksASecondLapInTheFirstLapsMap) {
 // returns to the mapped half.
 TEST(SlamdunkRawlogMaps, LocalizationOnlySaysWhenTheCameraLeavesTheMap) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  REQUIRE_SHARED_RUN(mapping, "synthetic_loop_200");
   const std::string dir = test::scratchDir("SlamMaps_LocalizeHalf");
-  const auto [mapping, localized] = mapThenLocalize(rawlog, dir, 200);
+  const SlamRun localized = localizeIn(mapping, rawlog, dir);
   EXPECT_EQ(localized.value("frames"), 400);
   EXPECT_EQ(localized.value("keyframes"), 0);
-  EXPECT_EQ(readFile(dir + "/localized/after.map"), readFile(dir + "/mapped.map"));
-  const auto outside = test::csvColumn(dir + "/localized/f.csv", "outside_map");
-  const auto status = test::csvColumn(dir + "/localized/f.csv", "status");
+  EXPECT_EQ(readFile(dir + "/after.map"), readFile(mapping.map));
+  const auto outside = test::csvColumn(dir + "/f.csv", "outside_map");
+  const auto status = test::csvColumn(dir + "/f.csv", "status");
   ASSERT_EQ(outside.size(), 400u);
   size_t firstHalfOutside = 0, secondHalfAway = 0;
   for (size_t i = 0; i < 400; ++i) {
@@ -1044,12 +1060,13 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlySaysWhenTheCameraLeavesTheMap) {
 // every frame is tracked, and the loaded keyframes stay exactly where they were.
 TEST(SlamdunkRawlogMaps, LocalizationOnlyExtendedMapsTheRestAndKeepsTheLoadedKeyframes) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
+  REQUIRE_SHARED_RUN(mapping, "synthetic_loop_200");
   const std::string dir = test::scratchDir("SlamMaps_LocalizeExtend");
-  const auto [mapping, extended] = mapThenLocalize(rawlog, dir, 200, "--extend-map");
+  const SlamRun extended = localizeIn(mapping, rawlog, dir, "--extend-map");
   EXPECT_EQ(extended.value("tracked"), 400) << extended.result.output;
   EXPECT_GE(extended.value("keyframes"), 5);
   EXPECT_LE(extended.value("ate_rmse_m"), 0.005) << extended.result.output;
-  const auto newKeyframe = test::csvColumn(dir + "/localized/f.csv", "new_keyframe");
+  const auto newKeyframe = test::csvColumn(dir + "/f.csv", "new_keyframe");
   for (size_t i = 0; i < 200 && i < newKeyframe.size(); ++i)
     EXPECT_EQ(newKeyframe[i], "0") << "a keyframe in the mapped half, frame " << i;
   // The loaded keyframes' poses, as the map held them and as the extended map holds them.
@@ -1060,8 +1077,8 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyExtendedMapsTheRestAndKeepsTheLoadedKey
       if (!line.empty() && line[0] != '#') out.push_back(line);
     return out;
   };
-  const auto loaded = lines(dir + "/trajectory_keyframes.txt");
-  const auto after = lines(dir + "/localized/trajectory_keyframes.txt");
+  const auto loaded = lines(keyframeTrajectoryPathFor(mapping.trajectory));
+  const auto after = lines(keyframeTrajectoryPathFor(extended.trajectory));
   ASSERT_GT(after.size(), loaded.size());
   EXPECT_TRUE(std::equal(loaded.begin(), loaded.end(), after.begin()));
 

@@ -83,6 +83,11 @@ std::string preparedRawlog(const std::string& name) {
   return fs::exists(p) ? p.string() : std::string();
 }
 
+std::string sharedRunDir(const std::string& name) {
+  const fs::path p = fs::path(SLAMDUNK_BINARY_DIR) / "shared-runs" / name;
+  return fs::exists(p / "output.txt") ? p.string() : std::string();
+}
+
 std::string groundTruthOf(const std::string& rawlog) {
   const fs::path p(rawlog);
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();

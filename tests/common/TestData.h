@@ -39,6 +39,9 @@ std::string readFile(const std::string& path);
 std::string preparedRawlog(const std::string& name);
 /// "<dir>/<stem>_groundtruth.txt" beside a rawlog (as tum2rawlog and synthetic-rgbd write it).
 std::string groundTruthOf(const std::string& rawlog);
+/// The output folder of a SLAM run that several tests share (a setup test of the CTest fixture
+/// shared_runs, tests/apps/CMakeLists.txt), or "" when it was not made.
+std::string sharedRunDir(const std::string& name);
 /// A number from a tool's --json output; NaN when the key is absent.
 double jsonValue(const std::string& json, const std::string& key);
 /// The numbers of a one-line JSON array of numbers (null read as NaN); empty when the key is

@@ -1,14 +1,14 @@
 // Dense outputs of a real SLAM run (7-Scenes, 1000 frames): the cloud from the optimised
 // keyframe poses against the same keyframes posed by ground truth, PLY/PCD and OctoMap files
-// written and read back, and a rendered picture. The SLAM run happens once for the suite.
+// written and read back, and a rendered picture. The run is the suite's shared one
+// (shared_run_7scenes: slamdunk-rawlog with the shipped INI, keyframe images in its map).
 
-#include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/TimestampAssociation.h>
 #include <slamdunk/core/TumTrajectory.h>
 #include <slamdunk/dense/DenseOutputs.h>
 #include <slamdunk/dense/MapRenderer.h>
 #include <slamdunk/eval/RigidAlignment.h>
-#include <slamdunk/slam/SlamSystem.h>
+#include <slamdunk/mrpt_map/CKeyframeGraphMap.h>
 
 #include "TestData.h"
 
@@ -84,19 +84,14 @@ class SevenScenesDense : public ::testing::Test {
 
   static void SetUpTestSuite() {
     rawlog_ = test::preparedRawlog("7scenes");
-    if (rawlog_.empty()) return;
-    SlamOptions options;
-    options.tracker.keepKeyframeImages = true;
-    slam_ = std::make_unique<SlamSystem>(options);
-    const auto t0 = std::chrono::steady_clock::now();
-    RawlogReader reader(rawlog_);
-    while (auto obs = reader.next()) slam_->process(*obs);
-    slam_->finish();
-    std::cout << "[ 7scenes ] SLAM: " << slam_->graph()->keyframeCount() << " keyframes in "
-              << secondsSince(t0) << " s\n";
+    const std::string run = test::sharedRunDir("7scenes");
+    if (rawlog_.empty() || run.empty()) return;
+    graph_ = CKeyframeGraphMap::loadFromFile(run + "/run.map")->graph();
+    trajectory_ = readTumTrajectory(run + "/trajectory.txt");
+    std::cout << "[ 7scenes ] SLAM: " << graph_->keyframeCount() << " keyframes\n";
     dir_ = test::scratchDir("Dense_7Scenes");
     const auto t1 = std::chrono::steady_clock::now();
-    summary_ = writeDenseOutputs(*slam_->graph(), dir_ + "/map", outputOptions());
+    summary_ = writeDenseOutputs(*graph_, dir_ + "/map", outputOptions());
     std::cout << "[ 7scenes ] dense outputs in " << secondsSince(t1)
               << " s: " << summary_.keyframesWithImages << " keyframes, " << summary_.cloudPoints
               << " cloud points (" << summary_.cloudSeconds << " s), "
@@ -105,21 +100,22 @@ class SevenScenesDense : public ::testing::Test {
               << summary_.occupancy.resolution << " m (" << summary_.occupancySeconds << " s, "
               << summary_.occupancy.memoryBytes / 1024 << " KiB)\n";
   }
-  static void TearDownTestSuite() { slam_.reset(); }
+  static void TearDownTestSuite() { graph_.reset(); }
 
   void SetUp() override {
-    if (!slam_)
-      SLAMDUNK_SKIP("rawlog '7scenes' was not prepared (its source data is not under "
-                    << test::dataDir() << ")");
+    if (!graph_)
+      SLAMDUNK_SKIP("the shared run '7scenes' was not made (its source data is not under "
+                    << test::dataDir() << ", or the test shared_run_7scenes did not run)");
   }
 
   static inline std::string rawlog_, dir_;
-  static inline std::unique_ptr<SlamSystem> slam_;
+  static inline std::shared_ptr<KeyframeGraph> graph_;
+  static inline Trajectory trajectory_;
   static inline DenseOutputSummary summary_;
 };
 
 TEST_F(SevenScenesDense, CloudMatchesTheGroundTruthPosedCloud) {
-  const auto keyframes = keyframesWithImages(*slam_->graph());
+  const auto keyframes = keyframesWithImages(*graph_);
   ASSERT_GE(keyframes.size(), 5u);
 
   // Ground-truth pose of each keyframe (by timestamp).
@@ -235,7 +231,7 @@ TEST_F(SevenScenesDense, OctoMapFilesReadBack) {
   EXPECT_EQ(free, s.freeLeaves);
   EXPECT_GT(coloured, occupied * 9 / 10) << "colours were not integrated";
   EXPECT_GT(colours.size(), 100u);
-  for (const auto& pk : keyframesWithImages(*slam_->graph())) {
+  for (const auto& pk : keyframesWithImages(*graph_)) {
     const Eigen::Vector3d c = pk.pose.translation();
     const auto* node = colour->search(c.x(), c.y(), c.z());
     ASSERT_TRUE(node) << "camera centre of keyframe " << pk.keyframe->id << " is unknown";
@@ -268,8 +264,8 @@ TEST_F(SevenScenesDense, RendersTheMapHeadless) {
   options.height = 480;
   MapRenderer renderer(options);
   renderer.setCloud(readPointCloud(dir_ + "/map.ply"));
-  renderer.setGraph(*slam_->graph());
-  renderer.setTrajectory(slam_->trajectory());
+  renderer.setGraph(*graph_);
+  renderer.setTrajectory(trajectory_);
   const auto t0 = std::chrono::steady_clock::now();
   const auto scene = renderer.buildScene();
   renderer.renderPng(*scene, dir_ + "/../Dense_7Scenes_render.png");

@@ -50,36 +50,22 @@ SlamOptions optionsWithImages() {
   return o;
 }
 
-/// A graph built by SlamSystem on the first frames of a rawlog, with keyframe images.
-std::shared_ptr<KeyframeGraph> runSlam(const std::string& rawlog, size_t maxFrames) {
-  SlamSystem slam(optionsWithImages());
-  RawlogReader reader(rawlog);
-  for (size_t k = 0; k < maxFrames; ++k) {
-    const auto obs = reader.next();
-    if (!obs) break;
-    slam.process(*obs);
-  }
-  slam.finish();
-  return slam.graph();
-}
-
-/// The synthetic sweep (150 frames), computed once for the tests that only need a map.
+/// The synthetic sweep's map (150 frames, keyframe images kept), made once for the suite by
+/// the prepare_sweep_map test (slamdunk-rawlog --map-images, the built-in defaults), read once
+/// per process.
 std::shared_ptr<KeyframeGraph> sweepGraph() {
   static std::shared_ptr<KeyframeGraph> graph;
-  if (!graph) {
-    const std::string rawlog = test::preparedRawlog("synthetic_sweep");
-    if (rawlog.empty()) return nullptr;
-    graph = runSlam(rawlog, 1000);
-  }
+  if (!graph && fs::exists(SLAMDUNK_SWEEP_MAP))
+    graph = CKeyframeGraphMap::loadFromFile(SLAMDUNK_SWEEP_MAP)->graph();
   return graph;
 }
 
-#define REQUIRE_SWEEP_GRAPH(var)                            \
-  const auto var = sweepGraph();                            \
-  if (!var)                                                 \
-  SLAMDUNK_SKIP(                                            \
-      "rawlog 'synthetic_sweep' was not prepared (run the " \
-      "prepare_test_data test)")
+#define REQUIRE_SWEEP_GRAPH(var)                                                        \
+  const auto var = sweepGraph();                                                        \
+  if (!var)                                                                             \
+  SLAMDUNK_SKIP("the synthetic sweep's map " << SLAMDUNK_SWEEP_MAP                      \
+                                             << " was not made (the prepare_sweep_map " \
+                                                "test)")
 
 bool sameBytes(const cv::Mat& a, const cv::Mat& b) {
   if (a.rows != b.rows || a.cols != b.cols || a.type() != b.type()) return false;
