@@ -1,5 +1,6 @@
 // The offline app end to end: accuracy on synthetic and real sequences, determinism, bad input.
-// Rawlogs come from the prepare_test_data fixture (build/test-data).
+// Rawlogs come from the prepare_test_data fixture (build/test-data); runs that several tests
+// check, from the shared_runs fixture (build/shared-runs, tests/apps/CMakeLists.txt).
 
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/TumTrajectory.h>
