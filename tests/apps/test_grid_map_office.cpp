@@ -63,10 +63,8 @@ TEST_P(SlamdunkRawlogGridMap, TheOfficesGridMatchesItsGeometry) {
   REQUIRE_RAWLOG(rawlog, GetParam().rawlog);
   std::string dir, map;
   if (GetParam().sharedRun) {
-    dir = test::sharedRunDir(GetParam().rawlog);
-    if (dir.empty())
-      SLAMDUNK_SKIP("the shared run '" << GetParam().rawlog << "' was not made (test shared_run_"
-                                       << GetParam().rawlog << ")");
+    REQUIRE_SHARED_RUN_DIR(shared, GetParam().rawlog);
+    dir = shared;
     map = dir + "/run.map";
   } else {
     dir = test::scratchDir(std::string("GridMap_") + GetParam().rawlog);

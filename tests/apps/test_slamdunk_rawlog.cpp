@@ -40,11 +40,8 @@ struct SlamRun {
 
 /// A run that several tests share (tests/apps/CMakeLists.txt, slamdunk_shared_run): it exited 0
 /// and saved its map. Skips the test (or fails it, SLAMDUNK_REQUIRE_DATA=1) when it was not made.
-#define REQUIRE_SHARED_RUN(var, name)                                                      \
-  const std::string var##Dir = ::slamdunk::test::sharedRunDir(name);                       \
-  if (var##Dir.empty())                                                                    \
-    SLAMDUNK_SKIP("the shared run '" << name << "' was not made (test shared_run_" << name \
-                                     << ")");                                              \
+#define REQUIRE_SHARED_RUN(var, name)     \
+  REQUIRE_SHARED_RUN_DIR(var##Dir, name); \
   const SlamRun var = sharedRun(var##Dir)
 
 SlamRun sharedRun(const std::string& dir) {
@@ -1072,15 +1069,8 @@ TEST(SlamdunkRawlogMaps, LocalizationOnlyExtendedMapsTheRestAndKeepsTheLoadedKey
   for (size_t i = 0; i < 200 && i < newKeyframe.size(); ++i)
     EXPECT_EQ(newKeyframe[i], "0") << "a keyframe in the mapped half, frame " << i;
   // The loaded keyframes' poses, as the map held them and as the extended map holds them.
-  const auto lines = [](const std::string& path) {
-    std::vector<std::string> out;
-    std::istringstream in(readFile(path));
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty() && line[0] != '#') out.push_back(line);
-    return out;
-  };
-  const auto loaded = lines(keyframeTrajectoryPathFor(mapping.trajectory));
-  const auto after = lines(keyframeTrajectoryPathFor(extended.trajectory));
+  const auto loaded = test::tumPoseLines(keyframeTrajectoryPathFor(mapping.trajectory));
+  const auto after = test::tumPoseLines(keyframeTrajectoryPathFor(extended.trajectory));
   ASSERT_GT(after.size(), loaded.size());
   EXPECT_TRUE(std::equal(loaded.begin(), loaded.end(), after.begin()));
 

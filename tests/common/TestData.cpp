@@ -88,6 +88,14 @@ std::string sharedRunDir(const std::string& name) {
   return fs::exists(p / "output.txt") ? p.string() : std::string();
 }
 
+std::vector<std::string> tumPoseLines(const std::string& path) {
+  std::istringstream in(readFile(path));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') lines.push_back(line);
+  return lines;
+}
+
 std::string groundTruthOf(const std::string& rawlog) {
   const fs::path p(rawlog);
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();

@@ -42,6 +42,8 @@ std::string groundTruthOf(const std::string& rawlog);
 /// The output folder of a SLAM run that several tests share (a setup test of the CTest fixture
 /// shared_runs, tests/apps/CMakeLists.txt), or "" when it was not made.
 std::string sharedRunDir(const std::string& name);
+/// The lines of a TUM trajectory file that hold poses (its comments left out).
+std::vector<std::string> tumPoseLines(const std::string& path);
 /// A number from a tool's --json output; NaN when the key is absent.
 double jsonValue(const std::string& json, const std::string& key);
 /// The numbers of a one-line JSON array of numbers (null read as NaN); empty when the key is
@@ -80,6 +82,13 @@ bool longTestsEnabled();
   if (var.empty())                                                                        \
   SLAMDUNK_SKIP("rawlog '" << name << "' was not prepared (its source data is not under " \
                            << ::slamdunk::test::dataDir() << ")")
+
+/// Skips (or fails, see SLAMDUNK_SKIP) the current test when a shared run (sharedRunDir) was
+/// not made; `var` is its output folder.
+#define REQUIRE_SHARED_RUN_DIR(var, name)                       \
+  const std::string var = ::slamdunk::test::sharedRunDir(name); \
+  if (var.empty())                                              \
+  SLAMDUNK_SKIP("the shared run '" << name << "' was not made (test shared_run_" << name << ")")
 
 /// Skips (or fails, see SLAMDUNK_SKIP) the current test when a dataset folder/file is missing.
 #define SLAMDUNK_REQUIRE_DATA(var, relative)                                                     \

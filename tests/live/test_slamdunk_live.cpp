@@ -92,9 +92,7 @@ TEST(SlamdunkLive, RealTimeReplayDropsNothingAndMatchesTheOfflineAccuracy) {
   // them is the suite's shared one (shared_run_7scenes_300).
   constexpr int kFrames = kReplayFrames;
   const std::string firstFrames = " --max-frames " + std::to_string(kFrames);
-  const std::string offlineRun = test::sharedRunDir("7scenes_300");
-  if (offlineRun.empty())
-    SLAMDUNK_SKIP("the shared run '7scenes_300' was not made (test shared_run_7scenes_300)");
+  REQUIRE_SHARED_RUN_DIR(offlineRun, "7scenes_300");
   const test::CommandResult offline{0, test::readFile(offlineRun + "/output.txt")};
   const double offlineAte = test::jsonValue(offline.output, "ate_rmse_m");
 

@@ -3,6 +3,7 @@
 // byte. Reading the prepared frames instead of rendering the office anew saves its textures
 // (about 6 s of CPU each).
 
+#include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/TumTrajectory.h>
 
 #include <gtest/gtest.h>
@@ -14,33 +15,17 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <string>
-#include <vector>
 
 namespace fs = std::filesystem;
 using namespace slamdunk;
 
 namespace {
 
-/// The images folder beside a prepared rawlog.
-std::string imagesOf(const std::string& rawlog) {
-  return (fs::path(rawlog).parent_path() / (fs::path(rawlog).stem().string() + "_Images")).string();
-}
-
 std::string colourFile(size_t frame) {
   char name[32];
   std::snprintf(name, sizeof name, "%06zu_rgb.jpg", frame);
   return name;
-}
-
-/// The pose lines of a TUM file (its comment lines left out).
-std::vector<std::string> poseLines(const std::string& path) {
-  std::istringstream in(test::readFile(path));
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') lines.push_back(line);
-  return lines;
 }
 
 }  // namespace
@@ -59,8 +44,10 @@ TEST(SyntheticSequence, TheBareCorridorGivesFewKeypoints) {
     ++i;
   }
   ASSERT_LT(i, gt.size()) << "the tour no longer walks the corridor from B to C";
-  const cv::Mat texturedImage = cv::imread(imagesOf(textured) + "/" + colourFile(i));
-  const cv::Mat bareImage = cv::imread(imagesOf(bare) + "/" + colourFile(i));
+  const cv::Mat texturedImage =
+      cv::imread(RawlogReader::imagesDirectoryFor(textured) + "/" + colourFile(i));
+  const cv::Mat bareImage =
+      cv::imread(RawlogReader::imagesDirectoryFor(bare) + "/" + colourFile(i));
   ASSERT_FALSE(texturedImage.empty() || bareImage.empty()) << "frame " << i;
   const size_t before = test::keypointSpread(texturedImage).keypoints;
   const size_t after = test::keypointSpread(bareImage).keypoints;
@@ -84,14 +71,15 @@ TEST(SyntheticRgbdTool, TourWithKinectDepthAndExternalImagesIsDeterministic) {
   EXPECT_NE(r.output.find("scene:            office"), std::string::npos) << r.output;
   size_t compared = 0;
   for (const auto& e : fs::directory_iterator(dir + "/again_Images")) {
-    const fs::path original = fs::path(imagesOf(prepared)) / e.path().filename();
+    const fs::path original =
+        fs::path(RawlogReader::imagesDirectoryFor(prepared)) / e.path().filename();
     EXPECT_EQ(test::readFile(e.path().string()), test::readFile(original.string()))
         << e.path().filename() << " differs from the prepared " << original;
     ++compared;
   }
   EXPECT_EQ(compared, 4u);  // colour and depth of 2 frames
-  const auto again = poseLines(dir + "/again_groundtruth.txt");
-  const auto all = poseLines(test::groundTruthOf(prepared));
+  const auto again = test::tumPoseLines(dir + "/again_groundtruth.txt");
+  const auto all = test::tumPoseLines(test::groundTruthOf(prepared));
   ASSERT_EQ(again.size(), 2u);
   ASSERT_GE(all.size(), 2u);
   EXPECT_EQ(again[0], all[0]);
