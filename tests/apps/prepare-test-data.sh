@@ -33,23 +33,46 @@ convert() {  # convert NAME SEQ_DIR CAMERA_INI [EXTRA_ARGS...]
   "$bin/tum2rawlog" "$seq" "$out/$name.rawlog" --camera "$cam" --external-images -q "$@"
 }
 
-synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
-  local name=$1 trajectory=$2
+# A render is made again when the renderer or its arguments changed: the stamp beside the
+# rawlog holds a hash of synthetic-rgbd, the synthetic module's library and the arguments.
+render_stamp() {  # render_stamp ARGS...
+  local lib
+  lib=$(ldd "$bin/synthetic-rgbd" | awk '/libslamdunk_synthetic/ {print $3}')
+  { md5sum "$bin/synthetic-rgbd" ${lib:+"$lib"} | cut -d' ' -f1; echo "$*"; } | md5sum |
+    cut -d' ' -f1
+}
+
+rendered() {  # rendered NAME STAMP RAWLOG...: true when every rawlog is there and up to date
+  local name=$1 stamp=$2
   shift 2
-  if [ -f "$out/$name.rawlog" ]; then echo "prepare-test-data: $name.rawlog ready"; return; fi
+  for f in "$@"; do [ -f "$f" ] || return 1; done
+  [ "$(cat "$out/.$name.render" 2>/dev/null)" = "$stamp" ]
+}
+
+synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
+  local name=$1 trajectory=$2 stamp
+  shift 2
+  stamp=$(render_stamp --trajectory "$trajectory" "$@")
+  if rendered "$name" "$stamp" "$out/$name.rawlog"; then
+    echo "prepare-test-data: $name.rawlog ready"
+    return
+  fi
   "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" -q "$@"
+  echo "$stamp" >"$out/.$name.render"
 }
 
 synthetic_pair() {  # synthetic_pair NAME TRAJECTORY [EXTRA_ARGS...]: NAME and NAME_kinect
-  local name=$1 trajectory=$2
+  local name=$1 trajectory=$2 stamp
   shift 2
-  if [ -f "$out/$name.rawlog" ] && [ -f "$out/${name}_kinect.rawlog" ]; then
+  stamp=$(render_stamp --trajectory "$trajectory" --kinect-twin "$@")
+  if rendered "$name" "$stamp" "$out/$name.rawlog" "$out/${name}_kinect.rawlog"; then
     echo "prepare-test-data: $name.rawlog and ${name}_kinect.rawlog ready"
     return
   fi
   # One render for both: the twin is byte for byte what --kinect-depth alone would write.
   "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" \
     --kinect-twin "$out/${name}_kinect.rawlog" -q "$@"
+  echo "$stamp" >"$out/.$name.render"
 }
 
 # Independent jobs, as many at once as there are cores, the longest first: run one after the

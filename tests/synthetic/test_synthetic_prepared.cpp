@@ -59,8 +59,8 @@ TEST(SyntheticSequence, TheBareCorridorGivesFewKeypoints) {
 TEST(SyntheticRgbdTool, TourWithKinectDepthAndExternalImagesIsDeterministic) {
   // The first frames of the drifting tour through the command line again (the options of a
   // benchmark: textures, Kinect noise, a focal length stated wrong, JPEG colour): the files of
-  // the prepared tour, byte for byte. A render that changed leaves a prepared tree stale: a
-  // developer's tree prepares its data again once build/test-data is removed.
+  // the prepared tour, byte for byte. (The preparation renders again when the renderer's
+  // library changed; a change elsewhere that alters the renders is caught here.)
   REQUIRE_RAWLOG(prepared, "tour_drift");
   const std::string dir = test::scratchDir("synthetic_tool_tour");
   const auto r = test::runCommand(
