@@ -188,6 +188,34 @@ void addDepthTerm(const Pose& T, const DepthAlignmentTerm& d, double huberSigmas
   }
 }
 
+/// Adds the point pairs' terms to the normal equations of the pose (N = 6) or of the pose and
+/// the velocity (N = 12). Fixed sizes and a coefficient-wise product: Eigen's general matrix
+/// product (which it picks from 12 x 3 times 3 x 12 on) costs more to set up than to compute.
+template <int N>
+void addPairTerms(const Pose& T, const std::vector<PosePair>& pairs, const Twist& dv,
+                  double huberSigmas, Eigen::Matrix<double, 12, 12>& H,
+                  Eigen::Matrix<double, 12, 1>& g) {
+  const Eigen::Matrix3d R = T.linear();
+  for (const PosePair& p : pairs) {
+    const Eigen::Vector3d q = T * (p.source + p.velocityJacobian * dv);
+    const Eigen::Vector3d e = q - p.target;
+    const Eigen::Matrix3d cov = R * p.sourceCov * R.transpose() + p.targetCov;
+    const Eigen::Matrix3d info = cov.inverse();
+    const double m2 = e.dot(info * e);  // squared Mahalanobis distance
+    const double m = std::sqrt(m2);
+    const double w = m <= huberSigmas ? 1.0 : huberSigmas / m;
+    // Left perturbation: exp(δ) T p ≈ q + δt + δω × q, so de/dδ = [I, -[q]×]; and the
+    // velocity moves the source: de/dν = R dsource/dν.
+    Eigen::Matrix<double, 3, N> J;
+    J.template leftCols<3>() = Eigen::Matrix3d::Identity();
+    J.template middleCols<3>(3) = -skewSymmetric(q);
+    if constexpr (N == 12) J.template rightCols<6>() = R * p.velocityJacobian;
+    const Eigen::Matrix<double, N, 3> weightedInfo = w * J.transpose() * info;
+    H.template topLeftCorner<N, N>() += weightedInfo.lazyProduct(J);
+    g.template head<N>() += weightedInfo * e;
+  }
+}
+
 }  // namespace
 
 Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
@@ -210,25 +238,11 @@ Pose refinePose(const Pose& initial, const std::vector<PosePair>& pairs,
       H.topLeftCorner<6, 6>() = Hd;
       g.head<6>() = gd;
     }
-    const Eigen::Matrix3d R = T.linear();
-    const Twist dv = velocity ? Twist(velocity->estimate - velocity->compensated) : Twist::Zero();
-    for (const PosePair& p : pairs) {
-      const Eigen::Vector3d q = T * (p.source + p.velocityJacobian * dv);
-      const Eigen::Vector3d e = q - p.target;
-      const Eigen::Matrix3d cov = R * p.sourceCov * R.transpose() + p.targetCov;
-      const Eigen::Matrix3d info = cov.inverse();
-      const double m2 = e.dot(info * e);  // squared Mahalanobis distance
-      const double m = std::sqrt(m2);
-      const double w = m <= options.huberSigmas ? 1.0 : options.huberSigmas / m;
-      // Left perturbation: exp(δ) T p ≈ q + δt + δω × q, so de/dδ = [I, -[q]×]; and the
-      // velocity moves the source: de/dν = R dsource/dν.
-      Eigen::Matrix<double, 3, 12> J;
-      J.leftCols<3>() = Eigen::Matrix3d::Identity();
-      J.middleCols<3>(3) = -skewSymmetric(q);
-      J.rightCols<6>() = R * p.velocityJacobian;
-      H.topLeftCorner(n, n) += w * J.leftCols(n).transpose() * info * J.leftCols(n);
-      g.head(n) += w * J.leftCols(n).transpose() * info * e;
-    }
+    if (velocity)
+      addPairTerms<12>(T, pairs, Twist(velocity->estimate - velocity->compensated),
+                       options.huberSigmas, H, g);
+    else
+      addPairTerms<6>(T, pairs, Twist::Zero(), options.huberSigmas, H, g);
     if (velocity) {
       const Twist precision = velocity->priorSigma.cwiseInverse().cwiseAbs2();
       H.bottomRightCorner<6, 6>().diagonal() += precision;
