@@ -57,7 +57,8 @@ synthetic() {  # synthetic NAME TRAJECTORY [EXTRA_ARGS...]
     echo "prepare-test-data: $name.rawlog ready"
     return
   fi
-  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" -q "$@"
+  # (Run through start_job's `||`, where set -e does not apply: a failure must return itself.)
+  "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" -q "$@" || return 1
   echo "$stamp" >"$out/.$name.render"
 }
 
@@ -71,7 +72,7 @@ synthetic_pair() {  # synthetic_pair NAME TRAJECTORY [EXTRA_ARGS...]: NAME and N
   fi
   # One render for both: the twin is byte for byte what --kinect-depth alone would write.
   "$bin/synthetic-rgbd" "$out/$name.rawlog" --trajectory "$trajectory" \
-    --kinect-twin "$out/${name}_kinect.rawlog" -q "$@"
+    --kinect-twin "$out/${name}_kinect.rawlog" -q "$@" || return 1
   echo "$stamp" >"$out/.$name.render"
 }
 
