@@ -6,6 +6,7 @@
 #include "RunWindow.h"
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/MemoryReuse.h>
 
 #include <cstdio>
 #include <iostream>
@@ -13,6 +14,7 @@
 using namespace slamdunk;
 
 int main(int argc, char** argv) {
+  keepFreedMemoryForReuse();  // frames one after the other: their buffers' pages stay mapped
   try {
     RawlogCommandLine args;
     if (const auto exitCode = parseRawlogCommandLine(argc, argv, args)) return *exitCode;
