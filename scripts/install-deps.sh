@@ -10,6 +10,7 @@ packages=(
   libwxgtk3.2-dev  # the viewer names MRPT's window thread (WxSubsystem.h includes wxWidgets)
   libeigen3-dev
   libopencv-dev
+  libdeflate-dev  # reads MRPT's external depth files faster than zlib's stream
   libceres-dev libsuitesparse-dev
   libopenni2-dev
   liboctomap-dev

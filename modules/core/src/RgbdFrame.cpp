@@ -1,5 +1,6 @@
 #include <slamdunk/core/DepthRegistration.h>
 #include <slamdunk/core/ErrorText.h>
+#include <slamdunk/core/ExternalDepthFile.h>
 #include <slamdunk/core/Pose.h>
 #include <slamdunk/core/RgbdFrame.h>
 
@@ -41,6 +42,7 @@ void matchResolution(CameraIntrinsics& K, const cv::Mat& image, const std::strin
 }  // namespace
 
 void loadExternalImages(const mrpt::obs::CObservation3DRangeScan& obs) {
+  loadExternalDepthFile(obs);  // load() skips a depth image already loaded
   obs.load();
   // forceLoad() leaves an image that is not externally stored as it is.
   if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
