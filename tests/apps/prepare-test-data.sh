@@ -35,11 +35,14 @@ convert() {  # convert NAME SEQ_DIR CAMERA_INI [EXTRA_ARGS...]
 
 # A render is made again when the renderer or its arguments changed: the stamp beside the
 # rawlog holds a hash of synthetic-rgbd, the synthetic module's library and the arguments.
-render_stamp() {  # render_stamp ARGS...
+renderer_hash() {
   local lib
   lib=$(ldd "$bin/synthetic-rgbd" | awk '/libslamdunk_synthetic/ {print $3}')
-  { md5sum "$bin/synthetic-rgbd" ${lib:+"$lib"} | cut -d' ' -f1; echo "$*"; } | md5sum |
-    cut -d' ' -f1
+  md5sum "$bin/synthetic-rgbd" ${lib:+"$lib"} | cut -d' ' -f1
+}
+renderer=$(renderer_hash)  # once: the jobs' subshells read it
+render_stamp() {  # render_stamp ARGS...
+  { echo "$renderer"; echo "$*"; } | md5sum | cut -d' ' -f1
 }
 
 rendered() {  # rendered NAME STAMP RAWLOG...: true when every rawlog is there and up to date
