@@ -107,13 +107,28 @@ int main(int argc, char** argv) {
       for (int checks : {16, 32, 64})
         add("flann " + std::to_string(trees) + " trees, " + std::to_string(checks) + " checks",
             [&](FeaturePoolOptions& o) {
+              o.index = PoolIndexType::Flann;
               o.kdTrees = trees;
               o.checks = checks;
             });
-    add("flann 4 trees, 16 checks, no frustum filter",
-        [](FeaturePoolOptions& o) { o.frustumFilter = false; });
+    for (int checks : {32, 48, 64, 96})
+      add("kdtree, " + std::to_string(checks) + " checks", [&](FeaturePoolOptions& o) {
+        o.index = PoolIndexType::KdTree;
+        o.checks = checks;
+      });
+    add("flann 4 trees, 16 checks, no frustum filter", [](FeaturePoolOptions& o) {
+      o.index = PoolIndexType::Flann;
+      o.kdTrees = 4;
+      o.checks = 16;
+      o.frustumFilter = false;
+    });
     add(
-        "flann 4 trees, 16 checks, one index per keyframe", [](FeaturePoolOptions&) {},
+        "flann 4 trees, 16 checks, one index per keyframe",
+        [](FeaturePoolOptions& o) {
+          o.index = PoolIndexType::Flann;
+          o.kdTrees = 4;
+          o.checks = 16;
+        },
         Layout::PerKeyframe);
     add("nanoflann (exact KD-tree)",
         [](FeaturePoolOptions& o) { o.index = PoolIndexType::Nanoflann; });
@@ -122,6 +137,7 @@ int main(int argc, char** argv) {
     add(
         "new keyframe's part: flann 1 tree, 64 checks",
         [](FeaturePoolOptions& o) {
+          o.index = PoolIndexType::Flann;
           o.kdTrees = 1;
           o.checks = 64;
         },

@@ -78,7 +78,8 @@ TEST(LocalMapOptions, RoundTripAndErrors) {
   EXPECT_THAT(error("window_sise = 4\n"), HasSubstr("window_sise"));
   EXPECT_THAT(error("window_size = 0\n"), HasSubstr("[local_map] window_size must be > 0"));
   EXPECT_THAT(error("knn_neighbours = 1\n"), HasSubstr("knn_neighbours"));
-  EXPECT_THAT(error("pool_index = kdtree\n"), HasSubstr("not one of flann, nanoflann or exact"));
+  EXPECT_THAT(error("pool_index = kd-tree\n"),
+              HasSubstr("not one of kdtree, flann, nanoflann or exact"));
 }
 
 // An INI written before [local_map] existed fails naming the key's new section.

@@ -1,5 +1,6 @@
 #include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/mapping/FeaturePool.h>
+#include <slamdunk/mapping/RandomizedKdTree.h>
 
 #include <nanoflann.hpp>
 #include <opencv2/core/utility.hpp>
@@ -107,6 +108,11 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
     nanoflann_ = std::make_unique<NanoflannIndex>(descriptors_);
     return;
   }
+  if (!binary_ && options.index == PoolIndexType::KdTree) {
+    kdTree_ = std::make_unique<RandomizedKdTree>(descriptors_, options.seed);
+    descriptors_.release();  // the tree keeps its own copy, in its leaves' order
+    return;
+  }
   // OpenCV's FLANN draws its tree splits from cv::theRNG(), which is per thread: seeding it
   // here makes the trees depend on the snapshot and the seed only, whichever thread builds them.
   cv::theRNG() = cv::RNG(options.seed);
@@ -175,6 +181,18 @@ void PoolPart::knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& ind
         indices.at<int>(q, j) = ok ? static_cast<int>(idx[j]) : -1;
         distances.at<float>(q, j) = ok ? std::sqrt(std::max(0.f, d2[j])) : 0.f;
       }
+    }
+    return;
+  }
+  if (kdTree_) {
+    indices.create(queries.rows, k, CV_32S);
+    distances.create(queries.rows, k, CV_32F);
+    for (int q = 0; q < queries.rows; ++q) {
+      int* idx = indices.ptr<int>(q);
+      float* d = distances.ptr<float>(q);
+      const int found = kdTree_->knn(queries.ptr<float>(q), k, checks, idx, d);
+      std::fill(idx + found, idx + k, -1);
+      std::fill(d + found, d + k, 0.f);
     }
     return;
   }

@@ -23,20 +23,26 @@ class Index;
 }
 
 namespace slamdunk {
+class RandomizedKdTree;
+}
+
+namespace slamdunk {
 
 /// The nearest-neighbour index of a pool part (float descriptors; binary ones always use LSH).
 enum class PoolIndexType {
+  KdTree,     ///< RandomizedKdTree: one randomized k-d tree, approximate, `checks`
   Flann,      ///< OpenCV FLANN randomized KD-trees: approximate, `kdTrees` trees, `checks`
   Nanoflann,  ///< nanoflann single KD-tree: exact, cheap to build, slow to search in 64-D
   Exact       ///< brute force for every part: the reference for accuracy measurements
 };
-SLAMDUNK_ENUM_NAMES(PoolIndexType, {{PoolIndexType::Flann, "flann"},
+SLAMDUNK_ENUM_NAMES(PoolIndexType, {{PoolIndexType::KdTree, "kdtree"},
+                                    {PoolIndexType::Flann, "flann"},
                                     {PoolIndexType::Nanoflann, "nanoflann"},
                                     {PoolIndexType::Exact, "exact"}});
 
 struct FeaturePoolOptions {
   PoolIndexType index = PoolIndexType::Flann;
-  int kdTrees = 1;  ///< randomized KD-trees (float descriptors)
+  int kdTrees = 1;  ///< randomized KD-trees (FLANN, float descriptors)
   int checks = 64;  ///< descriptors compared per search (FLANN counts points)
   /// Parts of at most this many features are searched by brute force, whatever `index` says:
   /// exact, and cheaper than a 64-check KD-tree search below about 1500 features (a KD-tree
@@ -109,7 +115,7 @@ class PoolPart {
   /// The keyframe's pose in the snapshot the part was built from (null: not in the part).
   const Pose* poseAtBuild(KeyframeId id) const;
   bool binary() const { return binary_; }
-  bool bruteForce() const { return !index_ && !nanoflann_; }
+  bool bruteForce() const { return !index_ && !nanoflann_ && !kdTree_; }
   /// k nearest neighbours of each query row: indices (CV_32S, -1 = none) and distances
   /// (CV_32F: Euclidean for float descriptors, bit counts for binary ones).
   void knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& indices,
@@ -130,6 +136,7 @@ class PoolPart {
   cv::Mat descriptors_;
   bool binary_ = false;
   std::unique_ptr<cv::flann::Index> index_;
+  std::unique_ptr<RandomizedKdTree> kdTree_;
   struct NanoflannIndex;
   std::unique_ptr<NanoflannIndex> nanoflann_;
 };
