@@ -103,45 +103,32 @@ int main(int argc, char** argv) {
       candidates.push_back({name, o, layout});
     };
     auto bruteForce = [](FeaturePoolOptions& o) { o.index = PoolIndexType::Exact; };
+    auto flann = [](int trees, int checks) {
+      return [trees, checks](FeaturePoolOptions& o) {
+        o.index = PoolIndexType::Flann;
+        o.kdTrees = trees;
+        o.checks = checks;
+      };
+    };
     for (int trees : {1, 2, 4, 8})
       for (int checks : {16, 32, 64})
         add("flann " + std::to_string(trees) + " trees, " + std::to_string(checks) + " checks",
-            [&](FeaturePoolOptions& o) {
-              o.index = PoolIndexType::Flann;
-              o.kdTrees = trees;
-              o.checks = checks;
-            });
+            flann(trees, checks));
     for (int checks : {32, 48, 64, 96})
-      add("kdtree, " + std::to_string(checks) + " checks", [&](FeaturePoolOptions& o) {
+      add("kdtree, " + std::to_string(checks) + " checks", [checks](FeaturePoolOptions& o) {
         o.index = PoolIndexType::KdTree;
         o.checks = checks;
       });
-    add("flann 4 trees, 16 checks, no frustum filter", [](FeaturePoolOptions& o) {
-      o.index = PoolIndexType::Flann;
-      o.kdTrees = 4;
-      o.checks = 16;
+    add("flann 4 trees, 16 checks, no frustum filter", [&](FeaturePoolOptions& o) {
+      flann(4, 16)(o);
       o.frustumFilter = false;
     });
-    add(
-        "flann 4 trees, 16 checks, one index per keyframe",
-        [](FeaturePoolOptions& o) {
-          o.index = PoolIndexType::Flann;
-          o.kdTrees = 4;
-          o.checks = 16;
-        },
-        Layout::PerKeyframe);
+    add("flann 4 trees, 16 checks, one index per keyframe", flann(4, 16), Layout::PerKeyframe);
     add("nanoflann (exact KD-tree)",
         [](FeaturePoolOptions& o) { o.index = PoolIndexType::Nanoflann; });
     add("brute force", bruteForce);
     add("brute force, one part per keyframe", bruteForce, Layout::PerKeyframe);
-    add(
-        "new keyframe's part: flann 1 tree, 64 checks",
-        [](FeaturePoolOptions& o) {
-          o.index = PoolIndexType::Flann;
-          o.kdTrees = 1;
-          o.checks = 64;
-        },
-        Layout::OneKeyframe);
+    add("new keyframe's part: flann 1 tree, 64 checks", flann(1, 64), Layout::OneKeyframe);
     add("new keyframe's part: brute force", bruteForce, Layout::OneKeyframe);
 
     // Query frames and their features.

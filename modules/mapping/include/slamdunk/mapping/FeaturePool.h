@@ -23,10 +23,8 @@ class Index;
 }
 
 namespace slamdunk {
-class RandomizedKdTree;
-}
 
-namespace slamdunk {
+class RandomizedKdTree;
 
 /// The nearest-neighbour index of a pool part (float descriptors; binary ones always use LSH).
 enum class PoolIndexType {
