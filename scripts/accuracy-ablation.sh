@@ -7,7 +7,8 @@
 #   SEQUENCES="7scenes fr1_xyz_400f" scripts/accuracy-ablation.sh
 #   ROWS="default|velocity prior" scripts/accuracy-ablation.sh   (only the rows whose name matches)
 #   SEEDS="42 43 44 45 46 47 48" scripts/accuracy-ablation.sh   (each cell: the median ATE over
-#                                           these RANSAC seeds [lowest-highest]: a real sequence's
+#                                           these RANSAC seeds [lowest-highest] and the keyframes'
+#                                           range: a real sequence's
 #                                           ATE moves by a few percent with the seed alone)
 #   TREE_SEEDS="1 2 3 4 5" scripts/accuracy-ablation.sh   (each cell over these KD-tree seeds too,
 #                                           with SEEDS or RANSAC seed 42: the tree moves ATE more
@@ -23,6 +24,7 @@ sequences=${SEQUENCES:-7scenes fr1_xyz_400f synthetic_loop synthetic_loop_kinect
 # name|key=value ...: the configurations, each against the default INI
 configs=(
   "default|"
+  "tracking only (local_optimization = false)|local_optimization=false"
   "paper's 3D-3D cost (residual_form = edge)|residual_form=edge"
   "keypoint noise not learned|estimate_keypoint_noise=false"
   "rolling shutter not learned|estimate_rolling_shutter=false"
@@ -35,8 +37,9 @@ configs=(
   "keyframes culled (keyframe_cull_share = 0.6)|keyframe_cull_share=0.6"
   "keyframes culled (keyframe_cull_share = 0.7)|keyframe_cull_share=0.7"
   "keyframes culled (keyframe_cull_share = 0.65)|keyframe_cull_share=0.65"
-  "no keyframe where the map shows the view (keyframe_covered_view = 0.95)|keyframe_covered_view=0.95"
+  "a keyframe wherever the overlap is low (keyframe_covered_view = 0, the paper)|keyframe_covered_view=0"
   "own k-d tree (pool_index = kdtree, kdtree_checks = 96)|pool_index=kdtree kdtree_checks=96"
+  "own k-d tree, a keyframe wherever the overlap is low|pool_index=kdtree kdtree_checks=96 keyframe_covered_view=0"
   "more ratio-test neighbours (knn_neighbours = 8)|knn_neighbours=8"
   "no pool budget (pool_budget = 0)|pool_budget=0"
   "pool budget 12,000 (pool_budget = 12000)|pool_budget=12000"
@@ -85,15 +88,18 @@ for c in "${configs[@]}"; do
       row+=" $(echo "$out" | field ate_rmse_m) ($(echo "$out" | field keyframes)) |"
       continue
     fi
-    ates=()
+    ates=() keyframes=()
     for tree in ${TREE_SEEDS:-keep}; do
       [ "$tree" = keep ] || sed -i "s/^kdtree_seed .*/kdtree_seed = $tree/" "$ini"
       for seed in $SEEDS; do
         sed -i "s/^ransac_seed .*/ransac_seed = $seed/" "$ini"
-        ates+=("$(run "$s" "$ini" | field ate_rmse_m)")
+        out=$(run "$s" "$ini")
+        ates+=("$(echo "$out" | field ate_rmse_m)")
+        keyframes+=("$(echo "$out" | field keyframes)")
       done
     done
-    row+=" $(printf '%s\n' "${ates[@]}" | sort -g | awk '{a[NR]=$1} END {m = NR % 2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2; printf "%.4f [%.4f-%.4f]", m, a[1], a[NR]}') |"
+    row+=" $(printf '%s\n' "${ates[@]}" | sort -g | awk '{a[NR]=$1} END {m = NR % 2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2; printf "%.4f [%.4f-%.4f]", m, a[1], a[NR]}')"
+    row+=" ($(printf '%s\n' "${keyframes[@]}" | sort -n | sed -n '1p;$p' | paste -sd-) keyframes) |"
   done
   echo "$row"
 done

@@ -202,7 +202,8 @@ TEST(SlamdunkLive, CullingBesideTheOptimizerThreadAndCheckpoints) {
   const std::string ini = replayIni(dir, rawlog,
                                     "checkpoint_every_keyframes = 2\n"
                                     "[pipeline.tracker]\nkeyframe_cull_share = 0.6\n"
-                                    "keyframe_cull_observers = 2\n");
+                                    "keyframe_cull_observers = 2\n"
+                                    "keyframe_covered_view = 0\n");  // the paper's spawning
   const LiveRun live =
       runLive(ini, dir,
               "--speed 2 --map " + q(dir + "/run.map") + " --gt " + q(test::groundTruthOf(rawlog)));

@@ -94,6 +94,34 @@ TEST(FeaturePool, SmallPartsAreSearchedExactly) {
   EXPECT_FALSE(big.parts().front()->bruteForce());
 }
 
+// nanoflann's KD-tree is exact: over a part too large for brute force it makes the matches, and
+// the ratios, that brute force makes.
+TEST(FeaturePool, NanoflannMatchesAsBruteForceDoes) {
+  const cv::Mat d = randomDescriptors(1200, 21);
+  KeyframeGraph graph;
+  graph.addKeyframe(makeKeyframe(0, d.rowRange(0, 600).clone()), Pose::Identity());
+  graph.addKeyframe(makeKeyframe(1, d.rowRange(600, 1200).clone()), Pose::Identity());
+  cv::Mat query = d.rowRange(300, 900).clone();
+  query += 0.3 * randomDescriptors(600, 22);
+  auto matchesWith = [&](PoolIndexType index) {
+    FeaturePoolOptions options;
+    options.index = index;
+    FeaturePool pool(options);
+    pool.build(graph, {0, 1}, Pose::Identity(), CameraIntrinsics());
+    EXPECT_EQ(pool.parts().front()->bruteForce(), index == PoolIndexType::Exact);
+    return pool.match(query, 0.9);
+  };
+  const auto exact = matchesWith(PoolIndexType::Exact);
+  const auto tree = matchesWith(PoolIndexType::Nanoflann);
+  ASSERT_GT(exact.size(), 400u);
+  ASSERT_EQ(tree.size(), exact.size());
+  for (size_t i = 0; i < exact.size(); ++i) {
+    EXPECT_EQ(tree[i].query, exact[i].query);
+    EXPECT_EQ(tree[i].pool, exact[i].pool);
+    EXPECT_NEAR(tree[i].ratio, exact[i].ratio, 1e-5);
+  }
+}
+
 // Over its budget, a window's part keeps the features its keyframes saw from directions nearest
 // the window centre's: there their descriptors match the camera's best.
 TEST(FeaturePool, ABudgetKeepsTheFeaturesSeenFromNearestTheCentre) {

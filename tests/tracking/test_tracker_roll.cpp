@@ -1,6 +1,7 @@
 // A camera turning about its optical axis. Upright SURF describes a rolled view's features
 // rolled with it, and past about 20 degrees they no longer match the map's: without turning its
-// descriptors ([features] surf_roll_limit_deg = 0) the tracker makes keyframe after keyframe.
+// descriptors ([features] surf_roll_limit_deg = 0) the tracker makes keyframe after keyframe
+// (by the paper's rule: the covered-view rule would hide the lost matches).
 
 #include <slamdunk/core/RawlogReader.h>
 #include <slamdunk/core/RgbdFrame.h>
@@ -47,7 +48,11 @@ struct RollRun {
 RollRun rollThrough(const RgbdFrame& first, double rollLimitDeg) {
   FeatureOptions features;
   features.surfRollLimitDeg = rollLimitDeg;
-  Tracker tracker(TrackerOptions{}, features, std::make_shared<KeyframeGraph>());
+  // The paper's keyframe rule, which makes a keyframe wherever the matches fail: with the
+  // covered-view rule a rolled view of the same place never makes one, matched or not.
+  TrackerOptions options;
+  options.keyframes.coveredView = 0;
+  Tracker tracker(options, features, std::make_shared<KeyframeGraph>());
   RollRun run;
   for (int step = 0; step <= 10; ++step) {
     const double degrees = 6.0 * step;

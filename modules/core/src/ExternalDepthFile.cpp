@@ -36,6 +36,14 @@ bool hostIsLittleEndian() {
   return first == 1;
 }
 
+/// One per thread, kept: depth files are loaded on the read-ahead threads, frame after frame, and
+/// a decompressor may not be shared between threads.
+libdeflate_decompressor* threadDecompressor() {
+  thread_local std::unique_ptr<libdeflate_decompressor, decltype(&libdeflate_free_decompressor)>
+      decompressor(libdeflate_alloc_decompressor(), &libdeflate_free_decompressor);
+  return decompressor.get();
+}
+
 /// The largest image accepted: a damaged header must not make us allocate gigabytes.
 constexpr size_t kMaxPixels = size_t(8192) * 8192;
 }  // namespace
@@ -53,11 +61,10 @@ bool loadExternalDepthFile(const mrpt::obs::CObservation3DRangeScan& obs) {
   if (inflatedSize < 8 || inflatedSize > 8 + 2 * kMaxPixels) return false;
   std::vector<uint8_t> data(inflatedSize);
 
-  std::unique_ptr<libdeflate_decompressor, decltype(&libdeflate_free_decompressor)> inflater(
-      libdeflate_alloc_decompressor(), &libdeflate_free_decompressor);
+  libdeflate_decompressor* inflater = threadDecompressor();
   if (!inflater) return false;
   size_t inflated = 0;
-  if (libdeflate_gzip_decompress(inflater.get(), file.data(), file.size(), data.data(), data.size(),
+  if (libdeflate_gzip_decompress(inflater, file.data(), file.size(), data.data(), data.size(),
                                  &inflated) != LIBDEFLATE_SUCCESS ||
       inflated != data.size())
     return false;

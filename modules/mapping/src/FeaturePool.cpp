@@ -168,32 +168,36 @@ const Pose* PoolPart::poseAtBuild(KeyframeId id) const {
 
 void PoolPart::knnSearch(const cv::Mat& queries, int k, int checks, cv::Mat& indices,
                          cv::Mat& distances) const {
-  if (nanoflann_) {
-    indices.create(queries.rows, k, CV_32S);
-    distances.create(queries.rows, k, CV_32F);
-    std::vector<uint32_t> idx(k);
-    std::vector<float> d2(k);
-    for (int q = 0; q < queries.rows; ++q) {
-      const size_t found =
-          nanoflann_->tree.knnSearch(queries.ptr<float>(q), k, idx.data(), d2.data());
-      for (int j = 0; j < k; ++j) {
-        const bool ok = j < static_cast<int>(found);
-        indices.at<int>(q, j) = ok ? static_cast<int>(idx[j]) : -1;
-        distances.at<float>(q, j) = ok ? std::sqrt(std::max(0.f, d2[j])) : 0.f;
-      }
-    }
-    return;
-  }
-  if (kdTree_) {
+  // Both own trees answer one query at a time: k rows, the missing ones marked -1.
+  auto eachQuery = [&](auto&& search) {
     indices.create(queries.rows, k, CV_32S);
     distances.create(queries.rows, k, CV_32F);
     for (int q = 0; q < queries.rows; ++q) {
       int* idx = indices.ptr<int>(q);
       float* d = distances.ptr<float>(q);
-      const int found = kdTree_->knn(queries.ptr<float>(q), k, checks, idx, d);
+      const int found = search(queries.ptr<float>(q), idx, d);
       std::fill(idx + found, idx + k, -1);
       std::fill(d + found, d + k, 0.f);
     }
+  };
+  if (nanoflann_) {
+    std::vector<uint32_t> ids(k);
+    std::vector<float> d2(k);
+    eachQuery([&](const float* query, int* idx, float* d) {
+      const int found =
+          static_cast<int>(nanoflann_->tree.knnSearch(query, k, ids.data(), d2.data()));
+      for (int j = 0; j < found; ++j) {
+        idx[j] = static_cast<int>(ids[j]);
+        d[j] = std::sqrt(std::max(0.f, d2[j]));
+      }
+      return found;
+    });
+    return;
+  }
+  if (kdTree_) {
+    eachQuery([&](const float* query, int* idx, float* d) {
+      return kdTree_->knn(query, k, checks, idx, d);
+    });
     return;
   }
   if (bruteForce()) {

@@ -21,8 +21,9 @@ struct KeyframePolicyOptions {
   int texturedCellFeatures = 0;
   /// A frame the overlap would make a keyframe makes none when at least this share of its
   /// points is already seen, from nearly the same place, by a keyframe it matched (see
-  /// ViewCoverage). 0: off, the paper's rule.
-  double coveredView = 0;
+  /// ViewCoverage): keyframes follow the space covered, not the time spent in it. 0: off, the
+  /// paper's rule.
+  double coveredView = 0.95;
 
   /// Its INI keys (in [tracker]), listed once for IniSectionReader and IniSectionWriter.
   template <class Self, class Keys>
