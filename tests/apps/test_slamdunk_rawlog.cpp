@@ -191,14 +191,19 @@ SlamRun withoutLoopClosing(const std::string& rawlog, const std::string& dirName
 // odometry drifts by decimetres, and at the return the active window no longer holds the first
 // keyframes. Place recognition finds the loop, and its correction at least halves the ATE,
 // inline (deterministic: two runs, one trajectory) and on the optimizer's thread. Local
-// optimization alone ends at 0.254 m: the bound is half of that. The long runs
-// (SLAMDUNK_LONG_TESTS=1) also run it, to check that the data still need the correction.
+// optimization alone ends at 0.245 m (0.254 m with the paper's keyframe rule): the bound is
+// about half of that. The long runs (SLAMDUNK_LONG_TESTS=1) also run it, to check that the
+// data still need the correction (its return 0.2 m or 2 degrees off or more, as issue 46 asks)
+// and to bound the ATE by half that run's.
 TEST(SlamdunkRawlogLoops, PlaceRecognitionClosesTheDriftingOfficeTour) {
   REQUIRE_RAWLOG(rawlog, "tour_drift");
   double bound = 0.125;
   if (test::longTestsEnabled()) {
     const SlamRun local = withoutLoopClosing(rawlog, "Loops_TourDrift_Local");
-    EXPECT_GT(local.value("ate_rmse_m"), 2 * bound) << "the data no longer need a loop correction";
+    const auto [localMetres, localDegrees] = returnError(local.trajectory, rawlog);
+    EXPECT_TRUE(localMetres > 0.2 || localDegrees > 2)
+        << "the data no longer need a loop correction: the return is " << localMetres << " m and "
+        << localDegrees << " degrees off";
     // At the return the window's pool holds the first keyframes 1.1 m off: the frames still
     // register by their features (against the keyframes near their reference), not by depth.
     EXPECT_LE(local.value("tracked_depth_only"), 1) << local.result.output;
