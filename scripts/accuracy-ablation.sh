@@ -8,8 +8,8 @@
 #   ROWS="default|velocity prior" scripts/accuracy-ablation.sh   (only the rows whose name matches)
 #   SEEDS="42 43 44 45 46 47 48" scripts/accuracy-ablation.sh   (each cell: the median ATE over
 #                                           these RANSAC seeds [lowest-highest] and the keyframes'
-#                                           range: a real sequence's
-#                                           ATE moves by a few percent with the seed alone)
+#                                           range: a real sequence's ATE moves by a few percent
+#                                           with the seed alone)
 #   TREE_SEEDS="1 2 3 4 5" scripts/accuracy-ablation.sh   (each cell over these KD-tree seeds too,
 #                                           with SEEDS or RANSAC seed 42: the tree moves ATE more
 #                                           than RANSAC's seed, and the default's tree, 7, is a
