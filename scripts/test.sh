@@ -46,8 +46,10 @@ long_runs=(
   # The optimizer's time on realistic local problems: a benchmark's figures, printed (its one
   # bound, a map error under 5 cm, is loose; the other LocalOptimizer tests assert accuracy).
   'LocalOptimizer\.TimingOnRealisticLocalProblems$'
-  # The occupancy grid of the office through Kinect depth and a drifting, loop-corrected map
-  # (CI: the same office with exact depth, tour_twins).
+  # The drifting office tour's loop closed by place recognition (CI: the same tour with a bare
+  # corridor, ATourWithABareCorridorIsTrackedAndClosed), and its occupancy grid through Kinect
+  # depth and a loop-corrected map (CI: the same office with exact depth, tour_twins).
+  'SlamdunkRawlogLoops\.PlaceRecognitionClosesTheDriftingOfficeTour$'
   'Office/SlamdunkRawlogGridMap\.TheOfficesGridMatchesItsGeometry/tour_drift '
 )
 [ "${SLAMDUNK_LONG_TESTS:-0}" = 1 ] && long_runs=()

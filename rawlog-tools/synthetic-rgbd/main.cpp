@@ -5,6 +5,7 @@
 #include <slamdunk/synthetic/SyntheticSequence.h>
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/MemoryReuse.h>
 #include <slamdunk/core/Stopwatch.h>
 
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <string>
 
 int main(int argc, char** argv) {
+  slamdunk::keepFreedMemoryForReuse();  // frames one after the other: their pages stay mapped
   return slamdunk::runTool("synthetic-rgbd", [&] {
     TCLAP::CmdLine cmd(
         "Renders a synthetic RGB-D sequence (a textured indoor scene, software OpenGL through EGL, "

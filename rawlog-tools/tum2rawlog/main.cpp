@@ -1,6 +1,7 @@
 // tum2rawlog: TUM RGB-D folder -> MRPT rawlog of CObservation3DRangeScan (+ TUM ground truth).
 
 #include <slamdunk/core/CommandLine.h>
+#include <slamdunk/core/MemoryReuse.h>
 #include <slamdunk/core/Stopwatch.h>
 #include <slamdunk/core/TumToRawlog.h>
 
@@ -8,6 +9,7 @@
 #include <iostream>
 
 int main(int argc, char** argv) {
+  slamdunk::keepFreedMemoryForReuse();  // images one after the other: their pages stay mapped
   return slamdunk::runTool("tum2rawlog", [&] {
     TCLAP::CmdLine cmd(
         "Converts a TUM RGB-D benchmark folder (rgb.txt, depth.txt, optional groundtruth.txt) "

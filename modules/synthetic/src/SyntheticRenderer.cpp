@@ -56,8 +56,7 @@ SyntheticRenderer::SyntheticRenderer(const CameraIntrinsics& intrinsics, int sup
 
 SyntheticRenderer::~SyntheticRenderer() = default;
 
-void SyntheticRenderer::render(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt, cv::Mat& bgr,
-                               cv::Mat& depth) {
+void SyntheticRenderer::placeCamera(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt) {
   auto viewport = scene.getViewport();
   viewport->setViewportClipDistances(float(kNearClip), float(kFarClip));
   auto& camera = viewport->getCamera();
@@ -66,15 +65,32 @@ void SyntheticRenderer::render(mrpt::opengl::COpenGLScene& scene, const Pose& T_
   camera.set6DOFMode(true);
   camera.setPose(toCPose3D(T_w_opt));
   impl_->fbo.setCamera(scene, camera);
-  impl_->fbo.render_RGBD(scene, impl_->rgb, impl_->depth);
+}
 
-  const int s = supersampling_, w = intrinsics_.width, h = intrinsics_.height;
+void SyntheticRenderer::copyColour(cv::Mat& bgr) const {
+  const int s = supersampling_;
   const cv::Mat hiRgb = impl_->rgb.asCvMatRef();
   if (s == 1)
     hiRgb.copyTo(bgr);
   else
-    cv::resize(hiRgb, bgr, cv::Size(w, h), 0, 0, cv::INTER_AREA);  // exact block average
+    cv::resize(hiRgb, bgr, cv::Size(intrinsics_.width, intrinsics_.height), 0, 0,
+               cv::INTER_AREA);  // exact block average
+}
 
+void SyntheticRenderer::renderColour(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt,
+                                     cv::Mat& bgr) {
+  placeCamera(scene, T_w_opt);
+  impl_->fbo.render_RGB(scene, impl_->rgb);
+  copyColour(bgr);
+}
+
+void SyntheticRenderer::render(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt, cv::Mat& bgr,
+                               cv::Mat& depth) {
+  placeCamera(scene, T_w_opt);
+  impl_->fbo.render_RGBD(scene, impl_->rgb, impl_->depth);
+  copyColour(bgr);
+
+  const int s = supersampling_, w = intrinsics_.width, h = intrinsics_.height;
   depth.create(h, w, CV_32F);
   const int off = (s - 1) / 2;
   for (int r = 0; r < h; ++r) {

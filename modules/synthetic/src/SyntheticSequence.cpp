@@ -222,7 +222,7 @@ cv::Mat SyntheticSequence::renderMotion(size_t i) {
 
   cv::Mat sum(rows, options_.width, CV_32FC3, cv::Scalar::all(0));
   std::vector<double> rowWeight(rows, 0.0);
-  cv::Mat bgr, depth, bgrF;
+  cv::Mat bgr, bgrF;
   for (int j = 0; j < renders; ++j) {
     const double t = i - span / 2 + (j + 0.5) * slice;
     // Each row takes the render by the time the two slices share.
@@ -234,7 +234,7 @@ cv::Mat SyntheticSequence::renderMotion(size_t i) {
       if (overlap > 0) weight[r] = overlap, used = true;
     }
     if (!used) continue;
-    renderer_->render(scene_->scene(), poseAt_(t), bgr, depth);
+    renderer_->renderColour(scene_->scene(), poseAt_(t), bgr);
     bgr.convertTo(bgrF, CV_32FC3);
     for (int r = 0; r < rows; ++r) {
       if (weight[r] <= 0) continue;
@@ -257,13 +257,13 @@ void SyntheticSequence::renderRaw(size_t i, cv::Mat& bgr, cv::Mat& depthRaw,
   const double depthFrame =
       p + options_.depthTimeOffsetMs * SyntheticTrajectory::kFrameRate / 1000.0;
   const bool separateDepth = options_.motionEffects() || options_.depthTimeOffsetMs != 0;
-  cv::Mat colour, depth, unused;
+  cv::Mat colour, depth;
   renderer_->render(scene_->scene(), separateDepth ? poseAt_(depthFrame) : groundTruth_[i].pose,
                     colour, depth);
   if (options_.motionEffects())
     colour = renderMotion(p);
   else if (separateDepth)
-    renderer_->render(scene_->scene(), groundTruth_[i].pose, colour, unused);
+    renderer_->renderColour(scene_->scene(), groundTruth_[i].pose, colour);
   // Gain, then 8 bits (saturating at white).
   colour.convertTo(bgr, CV_8UC3, exposureGain(p));
   if (kinectTwinDepthRaw) {

@@ -39,11 +39,16 @@ class SyntheticRenderer {
   /// bgr: CV_8UC3 colour; depth: CV_32F z-depth in metres along the optical axis (not the
   /// distance along the ray), 0 where no surface lies between the clip planes.
   void render(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt, cv::Mat& bgr, cv::Mat& depth);
+  /// The colour of render() alone, byte for byte, without reading the depth buffer back.
+  void renderColour(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt, cv::Mat& bgr);
 
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
   int supersampling() const { return supersampling_; }
 
  private:
+  void placeCamera(mrpt::opengl::COpenGLScene& scene, const Pose& T_w_opt);
+  void copyColour(cv::Mat& bgr) const;  ///< the last render's colour, at the image's size
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   CameraIntrinsics intrinsics_;
