@@ -8,10 +8,10 @@
 # loops found, look-up ms (median / max per keyframe), correction ms, the optimizer's share,
 # tracking p95 over the run and over the 30 frames before the correction reached the tracker.
 #   scripts/benchmark-loops.sh [RUNS]          (default 3; needs a built tree: scripts/build.sh)
-#   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (CI's short version only)
+#   SEQUENCES="tour_drift" scripts/benchmark-loops.sh   (the long runs' test sequence only)
 #   PARTS="sessions" scripts/benchmark-loops.sh   (some of: drift live sessions aliasing; default all)
-# tour_drift: 1100 frames (three times walking pace, CI's test); tour_drift_full: 3300 frames at
-# walking pace (about a minute to render, once); tour_drift_handheld: tour_drift with the
+# tour_drift: 1100 frames (three times walking pace, the long runs' test); tour_drift_full: 3300
+# frames at walking pace (about a minute to render, once); tour_drift_handheld: tour_drift with the
 # hand-held camera's effects too (motion blur, rolling shutter, auto exposure, depth 5 ms late;
 # several minutes to render, once); tour_drift_handheld_bare: tour_drift_handheld with the
 # corridor from room B to room C painted almost plain (--bare-corridor: 7 m with few features).

@@ -27,9 +27,11 @@ test::CommandResult syntheticRgbd(const std::string& args) {
   return test::runCommand(test::toolPath("synthetic-rgbd") + " " + args);
 }
 
-/// The options of a short hand-held sequence, rendered fast, its images beside the rawlog.
+/// The options of a short hand-held sequence, rendered fast, its images beside the rawlog: the
+/// shake's first frames (the whole shake squeezed into a few frames moves so fast between them
+/// that each frame took the most renders its motion blur allows, 48).
 std::string shortShake(int frames) {
-  return " --trajectory shake --frames " + std::to_string(frames) +
+  return " --trajectory shake --first-frames " + std::to_string(frames) +
          " --hand-held --supersampling 1 --external-images -q";
 }
 
