@@ -1,6 +1,6 @@
-// Float descriptors kept as 8-bit codes (keyframes far from the active window): the codes read
-// back within half a step, and a frame matched against them finds the matches it finds against
-// the floats.
+// Float descriptors kept as half floats (keyframes) or 8-bit codes (keyframes far from the
+// active window): they read back within half a step, and a frame matched against them finds
+// the matches it finds against the floats.
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -80,6 +80,34 @@ TEST(CompactDescriptors, CodesReadBackWithinHalfAStep) {
   EXPECT_EQ(matchableDescriptors(bits).data, bits.data);
   EXPECT_THROW(matchableDescriptors(cv::Mat(2, 4, CV_64FC1)), std::invalid_argument);
   EXPECT_THROW(compactDescriptors(bits), std::invalid_argument);
+  EXPECT_THROW(compactDescriptors(bits, DescriptorStorage::HalfFloat), std::invalid_argument);
+
+  // Half floats: 11 significant bits, so within 2^-12 of each component's magnitude.
+  const cv::Mat halves = compactDescriptors(floats, DescriptorStorage::HalfFloat);
+  ASSERT_EQ(halves.type(), CV_16FC1);
+  EXPECT_EQ(descriptorStorage(halves.type()), DescriptorStorage::HalfFloat);
+  EXPECT_EQ(descriptorStorage(codes.type()), DescriptorStorage::Codes);
+  EXPECT_EQ(descriptorStorage(floats.type()), DescriptorStorage::Float);
+  const cv::Mat halvesBack = matchableDescriptors(halves);
+  ASSERT_EQ(halvesBack.type(), CV_32FC1);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(halvesBack.at<float>(r, c), floats.at<float>(r, c),
+                  std::abs(floats.at<float>(r, c)) / 4096 + 1e-7);
+  // Half floats make the same codes as the floats they came from, but where rounding twice
+  // crosses a code's boundary.
+  EXPECT_LE(cv::norm(compactDescriptors(halves), codes, cv::NORM_INF), 1);
+
+  // Row by row (the pool's way) the same floats as the whole matrix.
+  for (const cv::Mat& kept : {floats, halves, codes}) {
+    const cv::Mat whole = matchableDescriptors(kept);
+    cv::Mat rows(kept.rows, kept.cols, CV_32FC1);
+    for (int r = 0; r < kept.rows; ++r)
+      matchableRow(kept.ptr(r), kept.type(), kept.cols, rows.ptr<float>(r));
+    EXPECT_EQ(cv::norm(rows, whole, cv::NORM_INF), 0.0) << "type " << kept.type();
+  }
+  float out[32];
+  EXPECT_THROW(matchableRow(bits.ptr(0), bits.type(), bits.cols, out), std::invalid_argument);
 }
 
 TEST(CompactDescriptors, AFrameFindsTheSameMatchesInCodesAsInFloats) {
@@ -103,4 +131,24 @@ TEST(CompactDescriptors, AFrameFindsTheSameMatchesInCodesAsInFloats) {
   ASSERT_GT(fromFloats.size(), 100u);
   EXPECT_GE(both, 0.97 * fromFloats.size());
   EXPECT_GE(both, 0.97 * fromCodes.size());
+}
+
+TEST(CompactDescriptors, AFrameFindsTheSameMatchesInHalfFloatsAsInFloats) {
+  SLAMDUNK_REQUIRE_DATA(dir, "tum/fr1_desk_9f/rgb");
+  const cv::Mat keyframe = uprightSurf64(dir + "/1305031453.359684.png");
+  const cv::Mat frame = uprightSurf64(dir + "/1305031453.627706.png");
+  ASSERT_GT(keyframe.rows, 200);
+  const cv::Mat back =
+      matchableDescriptors(compactDescriptors(keyframe, DescriptorStorage::HalfFloat));
+  EXPECT_LE(cv::norm(back, keyframe, cv::NORM_INF), 1.0 / 4096);  // components below 1
+
+  const auto fromFloats = ratioMatches(frame, keyframe);
+  const auto fromHalves = ratioMatches(frame, back);
+  size_t both = 0;
+  for (const auto& m : fromFloats) both += fromHalves.count(m);
+  std::printf("[ matches ] %zu from floats, %zu from half floats, %zu in both\n", fromFloats.size(),
+              fromHalves.size(), both);
+  ASSERT_GT(fromFloats.size(), 100u);
+  EXPECT_GE(both, 0.99 * fromFloats.size());
+  EXPECT_GE(both, 0.99 * fromHalves.size());
 }

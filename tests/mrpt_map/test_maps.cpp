@@ -235,9 +235,15 @@ TEST(KeyframeGraphMap, RoundTripOfMapWithoutImagesAndEmptyMap) {
   REQUIRE_SWEEP_GRAPH(graph);
   const std::string dir = test::scratchDir("Maps_RoundTripNoImages");
   const auto stripped = withoutImages(*graph, true);
-  // A keyframe far from the window keeps its descriptors as 8-bit codes: they come back as such.
-  const KeyframeId far = stripped->ids().front();
+  // A keyframe far from the window keeps its descriptors as 8-bit codes, one nearer as half
+  // floats: they come back as such.
+  const KeyframeId far = stripped->ids().front(), near = stripped->ids().back();
+  ASSERT_NE(far, near);
   ASSERT_TRUE(stripped->compactDescriptors(far));
+  stripped->compactDescriptors(near, DescriptorStorage::HalfFloat);  // the map's may already be
+  ASSERT_EQ(stripped->keyframe(near)->features.descriptors.type(), CV_16FC1);
+  EXPECT_FALSE(stripped->compactDescriptors(far, DescriptorStorage::HalfFloat));  // codes stay
+  EXPECT_FALSE(stripped->compactDescriptors(near, DescriptorStorage::HalfFloat));
   CKeyframeGraphMap(stripped).saveToFile(dir + "/noimages.kfmap");
   const auto loaded = CKeyframeGraphMap::loadFromFile(dir + "/noimages.kfmap");
   EXPECT_EQ(loaded->graph()->keyframeCount(), graph->keyframeCount());
@@ -246,7 +252,9 @@ TEST(KeyframeGraphMap, RoundTripOfMapWithoutImagesAndEmptyMap) {
     EXPECT_TRUE(loaded->graph()->keyframe(id)->colour.empty());
     EXPECT_TRUE(loaded->graph()->keyframe(id)->depth.empty());
     const cv::Mat& d = loaded->graph()->keyframe(id)->features.descriptors;
-    EXPECT_EQ(d.type(), id == far ? CV_8SC1 : CV_32FC1) << "keyframe " << id;
+    EXPECT_EQ(d.type(), stripped->keyframe(id)->features.descriptors.type()) << "keyframe " << id;
+    if (id == far) EXPECT_EQ(d.type(), CV_8SC1);
+    if (id == near) EXPECT_EQ(d.type(), CV_16FC1);
     EXPECT_TRUE(sameBytes(d, stripped->keyframe(id)->features.descriptors)) << "keyframe " << id;
   }
   // Images take most of the file.

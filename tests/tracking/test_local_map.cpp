@@ -2,6 +2,7 @@
 // fixed frame offset (offline) or as soon as it is ready (live); new keyframes are matched from
 // the next frame on through an index of their own.
 
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/mapping/LocalMap.h>
 
 #include "PoolTestData.h"
@@ -181,8 +182,10 @@ TEST(LocalMap, SplitPoolMatchesLikeOneIndex) {
   ASSERT_EQ(whole.size(), split.pool().size());
 
   cv::Mat query;
-  cv::vconcat(graph->keyframe(0)->features.descriptors.rowRange(0, 150),
-              graph->keyframe(1)->features.descriptors.rowRange(0, 150), query);
+  // Keyframe 0 keeps half floats since the window was asked for, keyframe 1 floats.
+  cv::vconcat(matchableDescriptors(graph->keyframe(0)->features.descriptors).rowRange(0, 150),
+              matchableDescriptors(graph->keyframe(1)->features.descriptors).rowRange(0, 150),
+              query);
   query += 0.02 * randomDescriptors(300, 9);
   const auto a = split.pool().match(query, 0.8), b = whole.match(query, 0.8);
   ASSERT_EQ(a.size(), b.size());
@@ -197,38 +200,44 @@ TEST(LocalMap, SplitPoolMatchesLikeOneIndex) {
   }
 }
 
-// Keyframes far beyond the window keep their descriptors as 8-bit codes (a quarter of the
-// memory); a return there matches them as it would the floats.
-TEST(LocalMap, KeyframesFarFromTheWindowKeepCompactDescriptors) {
-  for (const double beyond : {1.0, -1.0}) {
-    SCOPED_TRACE("compact_beyond " + std::to_string(beyond));
-    auto graph = std::make_shared<KeyframeGraph>();
-    LocalMapOptions o = options(false, 0, PoolIndexType::Exact);
-    o.compactBeyond = beyond;
-    LocalMap map(o, graph);
-    map.beginFrame();
-    spawn(*graph, map, 0, 300, 0.0);
-    spawn(*graph, map, 1, 300, 3.4);  // within W / 2 + 1 m of the window at 0
-    spawn(*graph, map, 2, 300, 10.0);
-    const cv::Mat floats = graph->keyframe(2)->features.descriptors.clone();
-    map.requestWindow(at(0.0), K);
-    EXPECT_EQ(graph->keyframe(0)->features.descriptors.type(), CV_32FC1);
-    EXPECT_EQ(graph->keyframe(1)->features.descriptors.type(), CV_32FC1);
-    const cv::Mat& far = graph->keyframe(2)->features.descriptors;
-    ASSERT_EQ(far.type(), beyond < 0 ? CV_32FC1 : CV_8SC1);
-    EXPECT_EQ(far.total() * far.elemSize(), 300u * 64 * (beyond < 0 ? 4 : 1));
+// Keyframes keep their descriptors as half floats, and as 8-bit codes far beyond the window (a
+// quarter of the memory); a return there matches them as it would the floats.
+TEST(LocalMap, KeyframesKeepCompactDescriptors) {
+  for (const bool half : {true, false})
+    for (const double beyond : {1.0, -1.0}) {
+      SCOPED_TRACE("compact_beyond " + std::to_string(beyond) + ", half floats " +
+                   std::to_string(half));
+      auto graph = std::make_shared<KeyframeGraph>();
+      LocalMapOptions o = options(false, 0, PoolIndexType::Exact);
+      o.compactBeyond = beyond;
+      o.halfFloatDescriptors = half;
+      LocalMap map(o, graph);
+      map.beginFrame();
+      spawn(*graph, map, 0, 300, 0.0);
+      spawn(*graph, map, 1, 300, 3.4);  // within W / 2 + 1 m of the window at 0
+      spawn(*graph, map, 2, 300, 10.0);
+      const cv::Mat floats = graph->keyframe(2)->features.descriptors.clone();
+      map.requestWindow(at(0.0), K);
+      const int near = half ? CV_16FC1 : CV_32FC1;
+      EXPECT_EQ(graph->keyframe(0)->features.descriptors.type(), near);
+      EXPECT_EQ(graph->keyframe(1)->features.descriptors.type(), near);
+      const cv::Mat& far = graph->keyframe(2)->features.descriptors;
+      ASSERT_EQ(far.type(), beyond < 0 ? near : CV_8SC1);
+      EXPECT_EQ(far.total() * far.elemSize(), 300u * 64 * (beyond < 0 ? (half ? 2 : 4) : 1));
 
-    // Back there: the window's pool finds each feature of keyframe 2 again.
-    map.requestWindow(at(10.0), K);
-    ASSERT_TRUE(map.includes(2));
-    const cv::Mat query = floats.rowRange(0, 200) + 0.02 * randomDescriptors(200, 9);
-    size_t found = 0;
-    for (const PoolMatch& m : map.pool().match(query, 0.8)) {
-      const PoolFeature& f = map.pool().feature(m.pool);
-      found += f.keyframe == 2 && f.index == m.query;
+      // Back there: the window's pool finds each feature of keyframe 2 again, and its codes
+      // stay codes (never made half floats again).
+      map.requestWindow(at(10.0), K);
+      ASSERT_TRUE(map.includes(2));
+      EXPECT_EQ(graph->keyframe(2)->features.descriptors.type(), beyond < 0 ? near : CV_8SC1);
+      const cv::Mat query = floats.rowRange(0, 200) + 0.02 * randomDescriptors(200, 9);
+      size_t found = 0;
+      for (const PoolMatch& m : map.pool().match(query, 0.8)) {
+        const PoolFeature& f = map.pool().feature(m.pool);
+        found += f.keyframe == 2 && f.index == m.query;
+      }
+      EXPECT_GE(found, 196u);
     }
-    EXPECT_GE(found, 196u);
-  }
 }
 
 TEST(LocalMap, ShiftIsMeasuredFromTheWindowAskedForLast) {

@@ -18,13 +18,13 @@ void KeyframeGraph::addKeyframe(KeyframePtr keyframe, const Pose& T_world_keyfra
   adjacency_[id];
 }
 
-bool KeyframeGraph::compactDescriptors(KeyframeId id) {
+bool KeyframeGraph::compactDescriptors(KeyframeId id, DescriptorStorage storage) {
   const KeyframePtr kf = keyframe(id);
   if (!kf || kf->features.empty() || kf->features.binary() ||
-      compactDescriptorType(kf->features.descriptors.type()))
+      descriptorStorage(kf->features.descriptors.type()) >= storage)
     return false;
   auto compact = std::make_shared<Keyframe>(*kf);
-  compact->features.descriptors = slamdunk::compactDescriptors(kf->features.descriptors);
+  compact->features.descriptors = slamdunk::compactDescriptors(kf->features.descriptors, storage);
   std::unique_lock lock(mutex_);
   const auto it = keyframes_.find(id);
   if (it == keyframes_.end() || it->second != kf) return false;  // culled or replaced meanwhile

@@ -92,14 +92,10 @@ PoolPart::PoolPart(const PoolSnapshot& snapshot, const FeaturePoolOptions& optio
   descriptors_.create(static_cast<int>(features_.size()), cols, binary_ ? CV_8U : CV_32F);
   const size_t rowBytes = descriptors_.elemSize() * cols;
   for (int r = 0; r < descriptors_.rows; ++r) {
-    if (rows[r].type == descriptors_.type()) {
+    if (rows[r].type == descriptors_.type())
       std::memcpy(descriptors_.ptr(r), rows[r].data, rowBytes);
-      continue;
-    }
-    // A keyframe far from the window holds its descriptors as 8-bit codes: the search runs
-    // on floats.
-    const cv::Mat row(1, cols, rows[r].type, const_cast<uchar*>(rows[r].data));
-    matchableDescriptors(row).copyTo(descriptors_.row(r));
+    else  // keyframes keep half floats, or 8-bit codes far from the window: searched as floats
+      matchableRow(rows[r].data, rows[r].type, cols, descriptors_.ptr<float>(r));
   }
   if (options.index == PoolIndexType::Exact ||
       features_.size() <= static_cast<size_t>(std::max(0, options.bruteForceBelow)))

@@ -101,7 +101,7 @@ void LocalMap::keyframeAdded(KeyframeId id) {
 void LocalMap::requestWindow(const Pose& center, const CameraIntrinsics& K) {
   syncQuadTree();
   const Eigen::Vector2d g = groundPosition(center);
-  compactFarKeyframes(g);
+  compactKeyframes(g);
   PoolSnapshot snapshot =
       PoolSnapshot::of(*graph_, quadTree_.querySquare(g.x(), g.y(), options_.windowSize));
   snapshot.frustum = std::make_pair(center, K);
@@ -202,16 +202,22 @@ PoolPreparationStats LocalMap::statistics() const {
   return stats_;
 }
 
-void LocalMap::compactFarKeyframes(const Eigen::Vector2d& windowCentre) {
-  if (options_.compactBeyond < 0) return;
+void LocalMap::compactKeyframes(const Eigen::Vector2d& windowCentre) {
   // On the tracking thread, when a window is asked for: offline, the same keyframes are
   // compacted at the same frame every run.
   const double reach = 0.5 * options_.windowSize + options_.compactBeyond;
-  for (const auto& [id, g] : indexedPositions_)
-    if ((g - windowCentre).cwiseAbs().maxCoeff() > reach && !compacted_.count(id)) {
-      graph_->compactDescriptors(id);
-      compacted_.insert(id);
-    }
+  for (const auto& [id, g] : indexedPositions_) {
+    DescriptorStorage storage = DescriptorStorage::Float;
+    if (options_.compactBeyond >= 0 && (g - windowCentre).cwiseAbs().maxCoeff() > reach)
+      storage = DescriptorStorage::Codes;
+    else if (options_.halfFloatDescriptors)
+      storage = DescriptorStorage::HalfFloat;
+    const auto it = compacted_.find(id);
+    if (storage == DescriptorStorage::Float || (it != compacted_.end() && it->second >= storage))
+      continue;
+    graph_->compactDescriptors(id, storage);
+    compacted_[id] = storage;
+  }
 }
 
 void LocalMap::syncQuadTree() {

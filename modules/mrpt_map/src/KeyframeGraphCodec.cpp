@@ -233,10 +233,13 @@ void validateKeyframe(const Keyframe& kf, const Pose& pose) {
     if (!p.allFinite()) corrupt(k + ": a feature point is not finite");
   if (!f.keypoints.empty()) {
     const int t = f.descriptors.type();
-    if (f.descriptors.cols < 1 || (t != CV_32FC1 && t != CV_8UC1 && !compactDescriptorType(t)))
+    if (f.descriptors.cols < 1 ||
+        (t != CV_32FC1 && t != CV_16FC1 && t != CV_8UC1 && !compactDescriptorType(t)))
       corrupt(k +
-              ": descriptors must be a CV_32F, CV_8U or CV_8S matrix with one row per keypoint");
-    if (t == CV_32FC1 && !allFinite(f.descriptors)) corrupt(k + ": a descriptor is not finite");
+              ": descriptors must be a CV_32F, CV_16F, CV_8U or CV_8S matrix with one row "
+              "per keypoint");
+    if ((t == CV_32FC1 || t == CV_16FC1) && !allFinite(f.descriptors))
+      corrupt(k + ": a descriptor is not finite");
   }
   // The full images are stored bit-exact whatever they hold (their readers check sizes and
   // skip invalid depth); only their kinds are fixed. The subsampled depth is indexed through

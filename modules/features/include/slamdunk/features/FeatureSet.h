@@ -10,8 +10,8 @@ namespace slamdunk {
 
 struct FeatureSet {
   std::vector<cv::KeyPoint> keypoints;  ///< raw (distorted) image coordinates
-  /// One row per keypoint: CV_32F, CV_8U for binary ones, or CV_8S for float ones kept as 8-bit
-  /// codes (CompactDescriptors.h).
+  /// One row per keypoint: CV_32F, CV_8U for binary ones, or, in keyframes, CV_16F or CV_8S for
+  /// float ones kept as half floats or 8-bit codes (CompactDescriptors.h).
   cv::Mat descriptors;
   std::vector<Eigen::Vector3d> points;  ///< optical-frame 3D point of each keypoint, metres
 

@@ -2,6 +2,7 @@
 // The map: keyframe poses (vertices) and the feature matches between keyframes (edges).
 // Thread-safe: the tracker reads poses while the local optimizer writes them.
 
+#include <slamdunk/features/CompactDescriptors.h>
 #include <slamdunk/graph/Keyframe.h>
 
 #include <Eigen/Core>
@@ -105,11 +106,11 @@ class KeyframeGraph {
   /// relative pose the two have now.
   void cullKeyframe(KeyframeId id, KeyframeId successor, const std::vector<KeyframeEdge>& rewired);
 
-  /// Keeps the keyframe's float descriptors as 8-bit codes from now on (CompactDescriptors.h),
-  /// for a keyframe far from the active window. A copy replaces the keyframe: whoever holds it
-  /// keeps what they have. False if there was nothing to compact (an unknown id, binary or
-  /// already compact descriptors).
-  bool compactDescriptors(KeyframeId id);
+  /// Keeps the keyframe's float descriptors as `storage` from now on (CompactDescriptors.h):
+  /// half floats, or 8-bit codes for a keyframe far from the active window. A copy replaces
+  /// the keyframe: whoever holds it keeps what they have. False if there was nothing to compact
+  /// (an unknown id, binary descriptors, or descriptors already that compact or more).
+  bool compactDescriptors(KeyframeId id, DescriptorStorage storage = DescriptorStorage::Codes);
   size_t keyframeCount() const;
   size_t edgeCount() const;
   bool contains(KeyframeId id) const;

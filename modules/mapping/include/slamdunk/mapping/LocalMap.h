@@ -54,6 +54,9 @@ struct LocalMapOptions : public mrpt::config::CLoadableOptions {
   /// No pool of the place the camera is in reads them; a return there, relocalization and place
   /// recognition read them back as floats. Negative: never.
   double compactBeyond = 1.0;
+  /// Keyframes nearer keep their float descriptors as half floats: half their memory, and a
+  /// frame's ratio-test matches against them are those against the floats.
+  bool halfFloatDescriptors = true;
   FeaturePoolOptions pool;
 
   /// Its INI keys (section [local_map]), listed once for loading and saving.
@@ -66,6 +69,7 @@ struct LocalMapOptions : public mrpt::config::CLoadableOptions {
     k("pool_handover_frames", o.handoverFrames);
     k("pool_handover_features_per_frame", o.handoverFeaturesPerFrame);
     k("compact_beyond", o.compactBeyond);
+    k("half_float_descriptors", o.halfFloatDescriptors);
     FeaturePoolOptions::forEachKey(o.pool, k);
   }
 
@@ -116,7 +120,7 @@ class LocalMap {
  private:
   struct Job;
   void syncQuadTree();
-  void compactFarKeyframes(const Eigen::Vector2d& windowCentre);
+  void compactKeyframes(const Eigen::Vector2d& windowCentre);
   std::shared_ptr<Job> submit(PoolSnapshot snapshot, bool window, uint64_t due);
   void handOver(const Job& job);
   void rebuildPool();
@@ -126,7 +130,8 @@ class LocalMap {
   std::shared_ptr<KeyframeGraph> graph_;
   QuadTree quadTree_;
   std::map<KeyframeId, Eigen::Vector2d> indexedPositions_;
-  std::set<KeyframeId> compacted_;  ///< keyframes whose descriptors are 8-bit codes (or binary)
+  /// How each keyframe keeps its descriptors, once compacted (binary ones are left as they are).
+  std::map<KeyframeId, DescriptorStorage> compacted_;
 
   // Tracking thread only.
   FeaturePool pool_;
