@@ -36,6 +36,8 @@
 // Version 2 has version 1's layout; a keyframe's descriptors may be CV_8S rows (8-bit codes of
 // float descriptors, kept by keyframes far from the window), which builds that read up to
 // version 1 refuse as corrupt: the version tells them the file is newer instead.
+// Version 3 has version 2's layout; descriptors may also be CV_16F rows (half floats, kept by
+// the other keyframes), which builds that read up to version 2 refuse as corrupt.
 // Matrix block: i32 rows, i32 cols, i32 cv type, u8 encoding (0 raw, 1 PNG, 2 scaled 16-bit
 // PNG followed by f32 units), u64 byte count, bytes. Raw bytes are the matrix' own (little-endian
 // on every platform this builds on).

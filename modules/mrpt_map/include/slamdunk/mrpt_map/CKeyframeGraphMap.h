@@ -34,8 +34,8 @@ class CKeyframeGraphMap : public mrpt::maps::CMetricMap {
 
  public:
   /// Newest serialization version this build writes and reads (2: descriptors may be 8-bit
-  /// codes, which a build reading up to 1 would take for a corrupt file).
-  static constexpr uint8_t kSerializationVersion = 2;
+  /// codes, 3: half floats, which builds reading older versions would take for a corrupt file).
+  static constexpr uint8_t kSerializationVersion = 3;
 
   CKeyframeGraphMap();
   /// Shares the graph (no copy): the map shows what the SLAM system is building. The map never
