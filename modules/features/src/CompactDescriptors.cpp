@@ -23,9 +23,7 @@ cv::Mat compactDescriptors(const cv::Mat& floats, DescriptorStorage storage) {
     case DescriptorStorage::Float:
       break;
   }
-  if (floats.empty()) return cv::Mat(floats.rows, floats.cols, CV_32FC1);
-  floats.convertTo(out, CV_32F);
-  return out;
+  throw std::invalid_argument("floats are not a compact form");
 }
 
 void matchableRow(const uchar* row, int type, int cols, float* out) {

@@ -17,8 +17,8 @@ constexpr double kCompactDescriptorScale = 127.0;
 /// How float descriptor rows are kept, from the most exact to the most compact.
 enum class DescriptorStorage { Float, HalfFloat, Codes };
 
-/// CV_8S codes (Codes) or CV_16F rows (HalfFloat) of CV_32F or half-float descriptor rows;
-/// Float: CV_32F rows. Other kinds: std::invalid_argument.
+/// CV_8S codes (Codes) or CV_16F rows (HalfFloat) of CV_32F or half-float descriptor rows.
+/// Other kinds, or Float: std::invalid_argument.
 cv::Mat compactDescriptors(const cv::Mat& floats,
                            DescriptorStorage storage = DescriptorStorage::Codes);
 /// How rows of this type keep float descriptors (Float for CV_32F and for anything else).
