@@ -39,6 +39,7 @@ configs=(
   "keyframes culled (keyframe_cull_share = 0.65)|keyframe_cull_share=0.65"
   "a keyframe wherever the overlap is low (keyframe_covered_view = 0, the paper)|keyframe_covered_view=0"
   "own k-d tree (pool_index = kdtree, kdtree_checks = 96)|pool_index=kdtree kdtree_checks=96"
+  "own k-d tree for every pool part (pool_brute_force_below = 0)|pool_index=kdtree kdtree_checks=96 pool_brute_force_below=0"
   "own k-d tree, a keyframe wherever the overlap is low|pool_index=kdtree kdtree_checks=96 keyframe_covered_view=0"
   "more ratio-test neighbours (knn_neighbours = 8)|knn_neighbours=8"
   "no pool budget (pool_budget = 0)|pool_budget=0"
