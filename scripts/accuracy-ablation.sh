@@ -12,8 +12,7 @@
 #                                           with the seed alone)
 #   TREE_SEEDS="1 2 3 4 5" scripts/accuracy-ablation.sh   (each cell over these KD-tree seeds too,
 #                                           with SEEDS or RANSAC seed 42: the tree moves ATE more
-#                                           than RANSAC's seed, and the default's tree, 7, is a
-#                                           lucky one; docs/experiments.md)
+#                                           than RANSAC's seed; docs/experiments.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=build/bin
@@ -38,7 +37,8 @@ configs=(
   "keyframes culled (keyframe_cull_share = 0.7)|keyframe_cull_share=0.7"
   "keyframes culled (keyframe_cull_share = 0.65)|keyframe_cull_share=0.65"
   "a keyframe wherever the overlap is low (keyframe_covered_view = 0, the paper)|keyframe_covered_view=0"
-  "own k-d tree (pool_index = kdtree, kdtree_checks = 96)|pool_index=kdtree kdtree_checks=96"
+  "own k-d tree (pool_index = kdtree, kdtree_checks = 96; the default since 2026-12-07)|pool_index=kdtree kdtree_checks=96"
+  "FLANN's KD-tree (pool_index = flann, kdtree_checks = 64; the default before)|pool_index=flann kdtree_checks=64"
   "own k-d tree for every pool part (pool_brute_force_below = 0)|pool_index=kdtree kdtree_checks=96 pool_brute_force_below=0"
   "own k-d tree, a keyframe wherever the overlap is low|pool_index=kdtree kdtree_checks=96 keyframe_covered_view=0"
   "more ratio-test neighbours (knn_neighbours = 8)|knn_neighbours=8"

@@ -95,15 +95,15 @@ void expectEveryFrameTracked(const SlamRun& r, int frames, double ateBound) {
   EXPECT_LE(r.value("ate_rmse_m"), ateBound) << r.result.output;
 }
 
-/// Runs `args` again with --no-optimization and expects the optimized run `opt` to have the
-/// lower ATE; returns the tracking-only run.
+/// Runs `args` again with --no-optimization and expects the optimized run `opt` to have a lower
+/// ATE, below `share` times the tracking-only run's; returns the tracking-only run.
 SlamRun expectOptimizationBeatsTrackingAlone(const std::string& rawlog, const SlamRun& opt,
                                              const std::string& dirName,
-                                             const std::string& args = "") {
+                                             const std::string& args = "", double share = 1.0) {
   SlamRun track = runSlam(rawlog, test::scratchDir(dirName), args + " --no-optimization");
   EXPECT_EQ(track.result.exitCode, 0) << track.result.output;
-  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m"))
-      << "local optimization did not improve on tracking alone:\n"
+  EXPECT_LT(opt.value("ate_rmse_m"), share * track.value("ate_rmse_m"))
+      << "local optimization did not improve enough on tracking alone:\n"
       << opt.result.output << track.result.output;
   return track;
 }
@@ -115,10 +115,12 @@ using test::readFile;
 // ------------------------------------------------------------------ accuracy
 
 // The shipped INI (SlamOptions.DefaultIniEqualsBuiltInDefaults: the built-in defaults) on the
-// loop: every frame tracked within 5 mm, the loop closed, and the local optimization improves
-// on tracking alone, on exact depth too. (With the dense depth term on, tracking alone there is
-// at 1.5 mm and the feature-only BA cannot improve it.)
-TEST(SlamdunkRawlog, SyntheticLoopIsAccurateClosesTheLoopAndOptimizationBeatsTrackingAlone) {
+// loop with exact depth: every frame tracked within 5 mm, the loop closed, and the local
+// optimization at least as good as tracking alone within 0.4 mm. There tracking alone is at its
+// floor (1.2-1.5 mm over eleven KD-tree seeds) and the optimization ends 0.9-1.25 times it (at
+// most 0.31 mm above), with the tree alone deciding which of the two is lower
+// (docs/experiments.md). The gain is asserted where there is one, on the Kinect-like loop below.
+TEST(SlamdunkRawlog, SyntheticLoopIsAccurateClosesTheLoopAndOptimizationDoesNoHarm) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop");
   REQUIRE_SHARED_RUN(opt, "synthetic_loop");  // the shipped INI
   EXPECT_EQ(opt.value("lost"), 0) << opt.result.output;
@@ -128,8 +130,12 @@ TEST(SlamdunkRawlog, SyntheticLoopIsAccurateClosesTheLoopAndOptimizationBeatsTra
   EXPECT_GT(opt.value("optimizer_share"), 0.01) << opt.result.output;
   EXPECT_LT(opt.value("optimizer_share"), 0.9) << opt.result.output;
   EXPECT_LT(opt.value("ate_rmse_m"), 0.005) << opt.result.output;
-  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopDefault_NoOpt",
-                                       defaultConfig());
+  const SlamRun track = runSlam(rawlog, test::scratchDir("Slam_SyntheticLoopDefault_NoOpt"),
+                                defaultConfig() + " --no-optimization");
+  ASSERT_EQ(track.result.exitCode, 0) << track.result.output;
+  EXPECT_LT(opt.value("ate_rmse_m"), track.value("ate_rmse_m") + 0.0004)
+      << "local optimization made the exact loop worse than tracking alone:\n"
+      << opt.result.output << track.result.output;
 }
 
 // With the paper's 3D-3D cost (residual_form = edge), weighing edge matches by keypoint scale
@@ -152,12 +158,14 @@ TEST(SlamdunkRawlog, SyntheticLoopScaleAwareEdgeWeightsImproveTheOptimization) {
 }
 
 // The same loop seen through a simulated Kinect v1 (disparity noise and 1/8-px steps): there
-// the local optimization improves on tracking alone with the default INI.
+// the local optimization improves on tracking alone by a quarter or more with the default INI
+// (0.50-0.77 times its ATE over seven KD-tree seeds, FLANN's or the own tree's); the bound asks
+// for 15 %.
 TEST(SlamdunkRawlog, SyntheticLoopWithKinectDepthOptimizationBeatsTrackingAlone) {
   REQUIRE_RAWLOG(rawlog, "synthetic_loop_kinect");
   const SlamRun opt = expectAllTrackedWithin(rawlog, "Slam_SyntheticLoopKinect", 0.015);
   EXPECT_GE(opt.value("loop_closures"), 1) << opt.result.output;
-  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopKinect_NoOpt");
+  expectOptimizationBeatsTrackingAlone(rawlog, opt, "Slam_SyntheticLoopKinect_NoOpt", "", 0.85);
 }
 
 // ------------------------------------------------------------------ loop closing

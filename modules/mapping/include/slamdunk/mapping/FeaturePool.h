@@ -39,12 +39,14 @@ SLAMDUNK_ENUM_NAMES(PoolIndexType, {{PoolIndexType::KdTree, "kdtree"},
                                     {PoolIndexType::Exact, "exact"}});
 
 struct FeaturePoolOptions {
-  PoolIndexType index = PoolIndexType::Flann;
+  /// The own k-d tree: a window's part searched 2.4 times as fast as through FLANN's, for the
+  /// same recall (bench-pool; docs/experiments.md).
+  PoolIndexType index = PoolIndexType::KdTree;
   int kdTrees = 1;  ///< randomized KD-trees (FLANN, float descriptors)
-  int checks = 64;  ///< descriptors compared per search (FLANN counts points)
+  int checks = 96;  ///< descriptors compared per search (FLANN counts points)
   /// Parts of at most this many features are searched by brute force, whatever `index` says:
-  /// exact, and cheaper than a 64-check KD-tree search below about 1500 features (a KD-tree
-  /// search costs about the same per query whatever the part's size; bench-pool).
+  /// exact, where the tree's search would miss some of a new keyframe's matches (the
+  /// synthetic office's ATE doubles without it; docs/experiments.md).
   int bruteForceBelow = 1000;
   int neighbours = 4;          ///< k of the k-NN search used by the ratio test
   int searchThreads = 2;       ///< the only parallel block of tracking, as in the paper
