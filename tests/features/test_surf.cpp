@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "TestData.h"
+#include "slamdunk/features/FeatureExtractor.h"
 #include "slamdunk/features/Surf.h"
 
 #include <slamdunk/core/Statistics.h>
@@ -558,3 +559,30 @@ TEST(Surf, RejectsUnsupportedInputClearly) {
 }
 
 }  // namespace
+
+// A rolled frame described with its windows turned at once (the tracker extracting on its own
+// thread) gets the descriptors it gets described upright and turned after (features extracted
+// ahead): the two ways of tracking a frame stay bit for bit the same.
+TEST(FeatureExtractor, DescribesAFrameTurnedAtOnceAsTurnedAfterwards) {
+  LOAD_7SCENES_FRAME(image);
+  const slamdunk::RgbdFrame frame(0.0, image, cv::Mat(image.size(), CV_32F, cv::Scalar(2.0f)),
+                                  slamdunk::CameraIntrinsics{});
+  const slamdunk::FeatureExtractor extractor{slamdunk::FeatureOptions{}};
+  const double turn = -17.5;
+
+  const slamdunk::FeatureSet upright = extractor.extract(frame);
+  slamdunk::FeatureSet turnedAfter = upright;
+  ASSERT_TRUE(extractor.describeTurned(frame, turnedAfter, turn));
+  const slamdunk::FeatureSet atOnce = extractor.extract(frame, turn);
+
+  ASSERT_GT(upright.size(), 100u);
+  ASSERT_EQ(atOnce.size(), upright.size());
+  EXPECT_EQ(cv::norm(atOnce.descriptors, turnedAfter.descriptors, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(atOnce.descriptors, upright.descriptors, cv::NORM_INF), 0.1);
+  EXPECT_EQ(atOnce.points, upright.points);
+  EXPECT_TRUE(extractor.describedWith(atOnce, turn));
+  EXPECT_FALSE(extractor.describedWith(atOnce, turn + 0.1));
+  EXPECT_FALSE(extractor.describedWith(atOnce, 0));
+  EXPECT_TRUE(extractor.describedWith(upright, 0));
+  EXPECT_FALSE(extractor.describedWith(upright, turn));
+}

@@ -77,7 +77,7 @@ int FeatureExtractor::descriptorNorm() const {
   return options_.type == FeatureType::ORB ? cv::NORM_HAMMING : cv::NORM_L2;
 }
 
-FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
+FeatureSet FeatureExtractor::extract(const RgbdFrame& frame, double turnDegrees) const {
   FeatureSet out;
   if (frame.grey().empty()) return out;
   std::vector<cv::KeyPoint> detected;
@@ -105,8 +105,7 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
   }
   if (kept.empty()) return out;
 
-  cv::Mat descriptors;
-  detector_->compute(frame.grey(), kept, descriptors);
+  const cv::Mat descriptors = describe(frame.grey(), kept, turnDegrees);
   // compute() may drop keypoints near the border and may reorder them (ORB regroups them by
   // pyramid level): re-associate the 3D points with the keypoints it returns.
   points.clear();
@@ -119,21 +118,45 @@ FeatureSet FeatureExtractor::extract(const RgbdFrame& frame) const {
   return out;
 }
 
+bool FeatureExtractor::turnsDescriptors() const {
+  return options_.surfUpright && options_.surfRollLimitDeg > 0 &&
+         (options_.type == FeatureType::SURF64 || options_.type == FeatureType::SURF128);
+}
+
+cv::Mat FeatureExtractor::describe(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints,
+                                   double turnDegrees) const {
+  cv::Mat descriptors;
+#ifdef SLAMDUNK_HAVE_SURF
+  if (turnDegrees != 0 && turnsDescriptors()) {
+    static_cast<Surf&>(*detector_)
+        .computeTurned(grey, keypoints, descriptors, static_cast<float>(turnDegrees));
+    return descriptors;
+  }
+#endif
+  detector_->compute(grey, keypoints, descriptors);
+  return descriptors;
+}
+
 bool FeatureExtractor::describeTurned(const RgbdFrame& frame, FeatureSet& features,
                                       double turnDegrees) const {
-#ifdef SLAMDUNK_HAVE_SURF
-  auto* surf = dynamic_cast<Surf*>(detector_.get());
-  if (!surf || features.keypoints.empty()) return false;
+  if (!turnsDescriptors() || features.keypoints.empty()) return false;
   std::vector<cv::KeyPoint> keypoints = features.keypoints;
-  cv::Mat descriptors;
-  surf->computeTurned(frame.grey(), keypoints, descriptors, static_cast<float>(turnDegrees));
+  cv::Mat descriptors = describe(frame.grey(), keypoints, turnDegrees);
   if (keypoints.size() != features.keypoints.size())
     throw std::logic_error("describeTurned(): a described keypoint left the image");
   features.keypoints = std::move(keypoints);
   features.descriptors = descriptors;
   return true;
+}
+
+bool FeatureExtractor::describedWith(const FeatureSet& features, double turnDegrees) const {
+  if (!turnsDescriptors() || features.keypoints.empty()) return turnDegrees == 0;
+  // Upright windows carry no angle (-1), turned ones the turn as SURF stores it.
+  const float angle = features.keypoints.front().angle;
+  if (turnDegrees == 0) return angle < 0;
+#ifdef SLAMDUNK_HAVE_SURF
+  return angle == Surf::turnedAngle(static_cast<float>(turnDegrees));
 #else
-  (void)frame, (void)features, (void)turnDegrees;
   return false;
 #endif
 }

@@ -147,10 +147,14 @@ void Surf::computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoi
   const cv::Mat gray = toGray8(image.getMat());
   removeUndescribable(keypoints, gray.size());
   const surf::IntegralImage integral(gray, threadWorkspace().integral);
-  float angle = std::fmod(angleDegrees, 360.f);
-  if (angle < 0.f) angle += 360.f;
+  const float angle = turnedAngle(angleDegrees);
   describe(integral, params_.extended, keypoints, descriptors,
            [angle](const cv::KeyPoint&) { return angle; });
+}
+
+float Surf::turnedAngle(float angleDegrees) {
+  const float angle = std::fmod(angleDegrees, 360.f);
+  return angle < 0.f ? angle + 360.f : angle;
 }
 
 }  // namespace slamdunk

@@ -57,7 +57,8 @@ Tracker::~Tracker() = default;
 
 TrackingResult Tracker::process(const RgbdFrame& frame) {
   const auto t = SteadyClock::now();
-  FeatureSet features = extractor_.extract(frame);
+  // Described once, as the frame needs (again only if a loop correction moves the last pose).
+  FeatureSet features = extractor_.extract(frame, descriptorTurnAhead());
   const double extractionMs = msSince(t);
   TrackingResult r = process(frame, std::move(features), extractionMs);
   r.timings.total += extractionMs;  // extracted on this thread: part of its time for the frame
@@ -82,7 +83,7 @@ TrackingResult Tracker::process(const RgbdFrame& frame, FeatureSet features, dou
   r.timings.pool = msSince(t);
 
   t = SteadyClock::now();
-  if (!lost_) turnDescriptorsToReference(frame, features);
+  turnDescriptorsToReference(frame, features);
   timing_.beginFrame(frame, features, lastPose_, lost_);
   r.timings.features = extractionMs + msSince(t);
   r.features = features.size();
@@ -399,14 +400,10 @@ TrackingResult Tracker::initialize(const RgbdFrame& frame, FeatureSet&& features
   return r;
 }
 
-void Tracker::turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const {
-  const FeatureOptions& o = extractor_.options();
-  const bool uprightSurf =
-      o.surfUpright && (o.type == FeatureType::SURF64 || o.type == FeatureType::SURF128);
-  const double limit = o.surfRollLimitDeg;
-  if (!uprightSurf || limit <= 0 || features.keypoints.empty()) return;
+double Tracker::descriptorTurnAhead() const {
+  if (lost_ || !extractor_.turnsDescriptors()) return 0;
   const KeyframePtr reference = graph_->keyframe(lastReference_);
-  if (!reference || reference->features.keypoints.empty()) return;
+  if (!reference || reference->features.keypoints.empty()) return 0;
   // The reference's descriptor windows' downward axis (turned too if it was), as the last
   // pose sees it near the image centre.
   const float turned = reference->features.keypoints.front().angle;
@@ -414,9 +411,15 @@ void Tracker::turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& fea
   const Eigen::Vector3d down =
       lastPose_.linear().transpose() *
       (graph_->pose(lastReference_).linear() * Eigen::Vector3d(-std::sin(a), std::cos(a), 0));
-  if (std::hypot(down.x(), down.y()) < 0.3) return;  // looking along it: roll is undefined
+  if (std::hypot(down.x(), down.y()) < 0.3) return 0;  // looking along it: roll is undefined
   const double roll = std::atan2(-down.x(), down.y()) * 180.0 / M_PI;
-  if (std::abs(roll) > limit) extractor_.describeTurned(frame, features, roll);
+  return std::abs(roll) > extractor_.options().surfRollLimitDeg ? roll : 0.0;
+}
+
+void Tracker::turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const {
+  const double wanted = descriptorTurnAhead();
+  if (!extractor_.describedWith(features, wanted))
+    extractor_.describeTurned(frame, features, wanted);
 }
 
 Pose Tracker::newComponentOrigin() const {

@@ -80,17 +80,30 @@ class FeatureExtractor {
   explicit FeatureExtractor(const FeatureOptions& options);
   ~FeatureExtractor();
 
-  FeatureSet extract(const RgbdFrame& frame) const;
+  /// turnDegrees: the frame's descriptor windows turned by it, as describeTurned() turns them
+  /// (0: as the options say).
+  FeatureSet extract(const RgbdFrame& frame, double turnDegrees = 0) const;
   const FeatureOptions& options() const { return options_; }
   /// cv::NORM_L2 or cv::NORM_HAMMING
   int descriptorNorm() const;
-  /// Describes the features again with every SURF window turned by turnDegrees (image
-  /// coordinates, y down). False, leaving them as they are, for other feature types.
+  /// Upright SURF, whose windows a rolled view can be described turned in
+  /// (FeatureOptions::surfRollLimitDeg above 0).
+  bool turnsDescriptors() const;
+  /// Describes the features again with every upright SURF window turned by turnDegrees (image
+  /// coordinates, y down; 0: upright). False, leaving them as they are, when windows cannot be
+  /// turned (turnsDescriptors()).
   bool describeTurned(const RgbdFrame& frame, FeatureSet& features, double turnDegrees) const;
+  /// Whether the features' windows are turned by turnDegrees (0: upright, or as the options say
+  /// where windows cannot be turned).
+  bool describedWith(const FeatureSet& features, double turnDegrees) const;
 
  private:
   FeatureOptions options_;
   cv::Ptr<cv::Feature2D> detector_;
+
+  /// Descriptors of `keypoints` (which it may drop or reorder, as cv::Feature2D::compute).
+  cv::Mat describe(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints,
+                   double turnDegrees) const;
 };
 
 }  // namespace slamdunk

@@ -81,6 +81,8 @@ class Surf : public cv::Feature2D {
   /// it is rolled against would describe it. Keypoints outside the image are removed.
   void computeTurned(cv::InputArray image, std::vector<cv::KeyPoint>& keypoints,
                      cv::OutputArray descriptors, float angleDegrees);
+  /// The keypoint angle computeTurned() gives its keypoints for a turn: in [0, 360).
+  static float turnedAngle(float angleDegrees);
 
   const Params& params() const { return params_; }
 

@@ -98,7 +98,8 @@ class Tracker {
           std::shared_ptr<KeyframeGraph> graph);
   ~Tracker();
 
-  /// Extracts the frame's features, then tracks it.
+  /// Extracts the frame's features, described as it needs them (turnDescriptorsToReference()),
+  /// then tracks it.
   TrackingResult process(const RgbdFrame& frame);
   /// Tracks a frame whose features were extracted already, in `extractionMs`, with this
   /// tracker's FeatureOptions (FramePrefetcher): the same result as process(frame).
@@ -132,8 +133,12 @@ class Tracker {
   /// `origin`.
   TrackingResult initialize(const RgbdFrame& frame, FeatureSet&& features, TrackingResult r,
                             const Pose& origin = Pose::Identity());
-  /// Describes a frame rolled by more than [features] surf_roll_limit_deg against its
-  /// reference keyframe's descriptors (as the last pose saw it) with its windows turned to them.
+  /// The turn (degrees, 0: upright) the next frame's SURF windows need to be described as its
+  /// reference keyframe's were, as the last pose sees that keyframe: beyond [features]
+  /// surf_roll_limit_deg, that roll.
+  double descriptorTurnAhead() const;
+  /// Describes the frame's features again with descriptorTurnAhead() unless they were already
+  /// (described upright ahead, FramePrefetcher: turned here when the frame is rolled).
   void turnDescriptorsToReference(const RgbdFrame& frame, FeatureSet& features) const;
   /// Where a new component's first keyframe goes: beside the whole map, far enough that the
   /// component's active window never holds another component's keyframes.
