@@ -280,6 +280,32 @@ TEST(Surf, ExactQuarterTurnIsAlmostPerfect) {
   EXPECT_GT(c.nnPrecision(), 0.97);
 }
 
+// Windows turned by nothing sample where upright ones do and rotate their responses by the
+// identity: the same descriptors, bit for bit, for keypoints inside the image (turned windows
+// read the table unclamped there) and near its border (clamped).
+TEST(Surf, WindowsTurnedByNothingAreDescribedAsUpright) {
+  LOAD_7SCENES_FRAME(image);
+  Surf::Params p;
+  p.upright = true;
+  const cv::Ptr<Surf> surf = Surf::create(p);
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat upright;
+  surf->detectAndCompute(image, cv::noArray(), keypoints, upright);
+  std::vector<cv::KeyPoint> turnedKeypoints = keypoints;
+  cv::Mat turned;
+  surf->computeTurned(image, turnedKeypoints, turned, 0.f);
+  ASSERT_EQ(turned.rows, upright.rows);
+  EXPECT_EQ(cv::norm(turned, upright, cv::NORM_INF), 0.0);
+  const auto nearBorder = [&](const cv::KeyPoint& kp) {
+    const float reach = 15.f * kp.size * 1.2f / 9.f;  // 10 s and the wavelet, past the corner
+    return kp.pt.x < reach || kp.pt.y < reach || kp.pt.x > image.cols - reach ||
+           kp.pt.y > image.rows - reach;
+  };
+  const auto border = std::count_if(keypoints.begin(), keypoints.end(), nearBorder);
+  EXPECT_GT(border, 10);
+  EXPECT_GT(static_cast<long>(keypoints.size()) - border, 100);
+}
+
 // Measured: scale 0.7: repeatability 0.48, NN precision 0.83; scale 1.5: 0.59, 0.89.
 TEST(Surf, RepeatableAndMatchableUnderScale) {
   LOAD_7SCENES_FRAME(image);

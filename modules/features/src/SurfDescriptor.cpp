@@ -103,6 +103,15 @@ void normalise(float* v, int n) {
   for (int i = 0; i < n; ++i) v[i] *= inv;
 }
 
+/// Whether every wavelet of half side `half` centred within (reachX, reachY) of p (plus the
+/// rounding of cornerIndex) lies inside the image, so that haar() would clamp none.
+bool windowInside(const IntegralImage& integral, const cv::Point2f& p, float reachX, float reachY,
+                  int half) {
+  const float margin = 2.f;  // cornerIndex's half-pixel shift and rounding
+  return p.x - reachX - margin >= half && p.x + reachX + margin <= integral.cols() - half &&
+         p.y - reachY - margin >= half && p.y + reachY + margin <= integral.rows() - half;
+}
+
 }  // namespace
 
 float dominantOrientation(const IntegralImage& integral, const cv::KeyPoint& kp) {
@@ -189,6 +198,19 @@ void computeDescriptor(const IntegralImage& integral, const cv::KeyPoint& kp, bo
       for (int k = 0; k < kSamples; ++k) {
         IntegralImage::haarInside(top, mid, bot, cols[k], half, dx[m * kSamples + k],
                                   dy[m * kSamples + k]);
+      }
+    }
+  } else if (integral.fits(half) && windowInside(integral, kp.pt, c * (std::abs(ux) + std::abs(vx)),
+                                                 c * (std::abs(uy) + std::abs(vy)), half)) {
+    // Turned, every wavelet inside the image: haar() without its clamping (no-ops here).
+    const std::ptrdiff_t below = half * integral.stride();
+    for (int m = 0; m < kSamples; ++m) {
+      const float rowX = originX + m * vx;
+      const float rowY = originY + m * vy;
+      for (int k = 0; k < kSamples; ++k) {
+        const uint32_t* mid = integral.row(cornerIndex(rowY + k * uy));
+        IntegralImage::haarInside(mid - below, mid, mid + below, cornerIndex(rowX + k * ux), half,
+                                  dx[m * kSamples + k], dy[m * kSamples + k]);
       }
     }
   } else {
